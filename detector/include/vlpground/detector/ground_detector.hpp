@@ -1,0 +1,96 @@
+// Ground-surface detection on a 16 x N range image (paper: "On Enhancing Ground Surface
+// Detection from Sparse Lidar Point Cloud", Li). Methods: "tangent" (the paper's, default),
+// "ransac" (single-plane baseline), "lpr" (Zermas et al. 2017 ground-plane fitting).
+//
+// Thread-safety: a GroundDetector keeps a reusable workspace; use one per thread.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "vlpground/frame.hpp"
+
+namespace vlpground {
+
+enum class GroundLabel : std::uint8_t { no_return = 0, ground = 1, obstacle = 2 };
+
+/// Sensor-to-vehicle transform applied before fitting (the paper assumes it known).
+struct Extrinsics {
+  double x_m = 0, y_m = 0, z_m = 0;
+  double roll_deg = 0, pitch_deg = 0, yaw_deg = 0;
+};
+
+struct DetectorConfig {
+  std::string method = "tangent";   // "tangent" | "ransac" | "lpr"
+  Extrinsics extrinsics;
+  double fit_radius_m = 40.0;       // returns used for fitting
+  int grid_bins = 80;               // B
+  double bin_size_m = 1.0;
+  int hypotheses = 200;             // M
+  double inlier_distance_m = 0.2;   // epsilon
+  double tangent_angle_deg = 10.0;  // delta of eq. 3
+  int min_segment_inliers = 30;     // T
+  double subsample_cell_m = 0.1;    // 0 = no sub-sampling for scoring
+  std::uint64_t seed = 1;
+
+  /// Throws std::invalid_argument naming the bad field and its valid range.
+  void validate() const;
+};
+
+/// Plane n . p + d = 0 in the vehicle frame, unit normal with n.z > 0.
+struct Plane {
+  float nx = 0, ny = 0, nz = 1, d = 0;
+};
+
+/// One of the four cross-partition segments (quadrants around the partition centre).
+struct GroundSegment {
+  Plane plane;
+  bool has_ground = false;  // false: no plausible ground plane in this segment
+  int inliers = 0;
+  float x_min_m = 0, x_max_m = 0, y_min_m = 0, y_max_m = 0;  // vehicle frame
+};
+
+struct StageTimings {
+  double tangents_ms = 0, hypotheses_ms = 0, inliers_ms = 0, integral_ms = 0, search_ms = 0,
+         labelling_ms = 0, total_ms = 0;
+};
+
+/// Per-cell output, laid out like the frame (index = ring * stride + col) per layer.
+struct GroundResult {
+  std::vector<std::uint8_t> label[2];  // GroundLabel values
+  std::vector<float> height_m[2];      // height above the fitted ground (NaN if none)
+  int stride = 0;
+  int columns = 0;
+  std::array<GroundSegment, 4> segments{};
+  float centre_x_m = 0, centre_y_m = 0;  // partition centre (vehicle frame)
+  int total_inliers = 0;
+  StageTimings timings;
+  std::uint64_t ground_returns = 0, obstacle_returns = 0;
+
+  /// Sizes the arrays for frames of `capacity_columns`; the only allocating call.
+  void reserve(int capacity_columns);
+};
+
+class GroundDetector {
+ public:
+  /// Validates `config` (throws std::invalid_argument) and builds the chosen method.
+  explicit GroundDetector(const DetectorConfig& config = {});
+  ~GroundDetector();
+  GroundDetector(GroundDetector&&) noexcept;
+  GroundDetector& operator=(GroundDetector&&) noexcept;
+
+  /// Labels every cell of `frame` into `out`. No heap allocation after the first call for a
+  /// given frame capacity.
+  void detect(const Frame& frame, GroundResult& out);
+
+  [[nodiscard]] const DetectorConfig& config() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vlpground

@@ -1,0 +1,113 @@
+// Decodes 1206-byte VLP-16 data packets into firing columns. Zero heap allocation per
+// packet: the caller owns the DecodedPacket and reuses it.
+//
+// Thread-safety: one PacketDecoder per thread (it keeps the warn-once state, counters and
+// the hour resolver).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "vlpground/driver/sensor_model.hpp"
+#include "vlpground/types.hpp"
+
+namespace vlpground {
+
+inline constexpr std::size_t kDataPacketBytes = 1206;
+inline constexpr std::size_t kPositionPacketBytes = 512;
+inline constexpr int kBlocksPerPacket = 12;
+inline constexpr int kMaxColumnsPerPacket = 24;
+
+/// One return of one laser.
+struct LaserReturn {
+  float distance_m = 0.f;  // 0 = no return
+  float x_m = 0.f, y_m = 0.f, z_m = 0.f;
+  std::uint8_t intensity = 0;
+};
+
+/// One firing sequence: 16 lasers fired 2.304 us apart.
+struct FiringColumn {
+  std::int64_t time_ns = 0;                   // absolute time of laser 0's firing
+  std::array<float, kLasers> azimuth_deg{};   // per laser id, interpolated, [0, 360)
+  // [kStrongestLayer]: strongest (or the only) return; [kLastLayer]: last return (dual).
+  std::array<std::array<LaserReturn, kLasers>, 2> returns{};
+  std::array<std::uint8_t, kLasers> same_echo{};  // dual: both layers hold the same echo
+};
+
+struct DecodedPacket {
+  std::array<FiringColumn, kMaxColumnsPerPacket> columns{};
+  int column_count = 0;          // 24 single-return, 12 dual
+  ReturnMode mode = ReturnMode::strongest;
+  Model model = Model::vlp16;    // model used to decode
+  std::uint8_t product_byte = 0;
+  std::uint32_t stamp_us_past_hour = 0;  // raw packet timestamp
+  std::int64_t time_ns = 0;              // absolute time of the first firing
+  std::int64_t receive_ns = 0;           // receive time given by the caller
+  std::uint16_t first_azimuth_centideg = 0;
+  // 0-based index of this packet among all packets given to PacketDecoder::decode()
+  // (the k-th data packet of a capture); ground-truth files are indexed by it.
+  std::uint64_t packet_index = 0;
+};
+
+enum class DecodeStatus : std::uint8_t {
+  ok,
+  wrong_size,     // not 1206 bytes
+  bad_flag,       // a block without FF EE
+  bad_azimuth,    // azimuth >= 36000
+  unknown_mode,   // return-mode byte not 0x37/0x38/0x39
+};
+
+struct DecoderCounters {
+  std::uint64_t decoded = 0;
+  std::uint64_t wrong_size = 0;
+  std::uint64_t bad_flag = 0;
+  std::uint64_t bad_azimuth = 0;
+  std::uint64_t unknown_mode = 0;
+  std::uint64_t product_mismatch = 0;  // product byte unknown or contradicting the timing
+};
+
+struct DecoderConfig {
+  std::optional<Model> force_model;  // decode as this model whatever the product byte says
+  std::string calibration_file;      // empty: built-in geometry
+  bool use_gps_hour = true;          // take the hour from GPRMC when PPS is locked
+
+  /// Throws std::invalid_argument with a clear message.
+  void validate() const;
+};
+
+class PacketDecoder {
+ public:
+  explicit PacketDecoder(const DecoderConfig& config = {});
+
+  /// Decodes `bytes` received at `receive_ns` (pcap record time or host clock, ns since the
+  /// epoch) into `out`. Never throws, never allocates; a malformed packet is a status and a
+  /// counter.
+  DecodeStatus decode(std::span<const std::uint8_t> bytes, std::int64_t receive_ns,
+                      DecodedPacket& out);
+
+  /// Feeds the hour resolver with a parsed position packet's UTC time (see position_packet.hpp).
+  void set_gps_hour_reference(std::int64_t top_of_hour_ns);
+
+  [[nodiscard]] const DecoderCounters& counters() const { return counters_; }
+  [[nodiscard]] const SensorModel& sensor_model(Model m) const;
+  /// Human-readable warnings raised once each (e.g. product byte mismatch); empty if none.
+  [[nodiscard]] const std::string& last_warning() const { return last_warning_; }
+
+ private:
+  DecoderConfig config_;
+  SensorModel vlp16_, hires_;
+  DecoderCounters counters_;
+  std::string last_warning_;
+  // Implementation state (hour resolver, previous packet, warn-once flags) is private.
+  std::int64_t previous_stamp_ns_ = -1;
+  double previous_rate_deg_per_ns_ = 0.0;
+  std::int64_t gps_top_of_hour_ns_ = -1;
+  std::int64_t last_resolved_ns_ = -1;
+  bool warned_product_ = false;
+};
+
+}  // namespace vlpground

@@ -1,0 +1,93 @@
+// Where packets come from: a pcap/pcapng file or a live UDP socket, behind one interface.
+// libpcap and Boost.Asio stay behind pimpl; this header has no third-party includes.
+//
+// Thread-safety: a PacketSource is used by one thread; request_stop() may be called from any.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+
+namespace vlpground {
+
+enum class PacketKind : std::uint8_t { data, position };
+
+/// A view of one UDP payload, valid until the next call to PacketSource::next().
+struct PacketView {
+  std::span<const std::uint8_t> bytes;
+  PacketKind kind = PacketKind::data;
+  std::int64_t receive_ns = 0;  // capture timestamp (pcap) or kernel/host receive time (UDP)
+  std::int64_t steady_receive_ns = 0;  // host steady clock at receipt (for latency)
+};
+
+enum class SourceStatus : std::uint8_t {
+  packet,       // `out` holds a packet
+  timeout,      // no packet within the wait (live only)
+  end_of_file,  // replay finished
+  stopped,      // request_stop() was called
+};
+
+struct SourceCounters {
+  std::uint64_t records = 0;          // pcap records / datagrams seen
+  std::uint64_t data_packets = 0;
+  std::uint64_t position_packets = 0;
+  std::uint64_t skipped_other = 0;    // not UDP to our ports, other traffic
+  std::uint64_t skipped_wrong_size = 0;
+  std::uint64_t skipped_fragment = 0;
+  std::uint64_t skipped_address = 0;  // filtered by sensor address
+  std::uint64_t truncated = 0;        // records cut short (snaplen, truncated file)
+  std::uint64_t kernel_drops = 0;     // SO_RXQ_OVFL (live)
+  [[nodiscard]] std::uint64_t skipped() const {
+    return skipped_other + skipped_wrong_size + skipped_fragment + skipped_address + truncated;
+  }
+};
+
+class PacketSource {
+ public:
+  virtual ~PacketSource() = default;
+  /// Waits up to `timeout_ms` for the next data or position packet. Never allocates.
+  virtual SourceStatus next(PacketView& out, int timeout_ms) = 0;
+  /// Makes a blocked or future next() return `stopped`. Callable from any thread.
+  virtual void request_stop() = 0;
+  [[nodiscard]] virtual const SourceCounters& counters() const = 0;
+  /// True for live sources (frames may be dropped under backpressure), false for replay.
+  [[nodiscard]] virtual bool is_live() const = 0;
+  /// Fraction of the input consumed, 0..1 (replay), or -1 when unknown (live).
+  [[nodiscard]] virtual double progress() const { return -1.0; }
+  /// One-line description for logs ("pcap foo.pcap", "udp 0.0.0.0:2368").
+  [[nodiscard]] virtual std::string describe() const = 0;
+};
+
+struct PcapSourceConfig {
+  std::string path;
+  std::uint16_t data_port = 2368;
+  std::uint16_t position_port = 8308;
+  std::string sensor_address;   // empty: any; else only packets from this IPv4/IPv6 address
+  double rate = 0.0;            // 0 = as fast as possible; 1.0 = real time by capture stamps
+  bool loop = false;
+  void validate() const;
+};
+
+struct UdpSourceConfig {
+  std::string bind_address = "0.0.0.0";
+  std::uint16_t data_port = 2368;
+  std::uint16_t position_port = 8308;  // 0 = do not listen for position packets
+  std::string multicast_group;         // empty: none
+  std::string sensor_address;          // empty: any
+  bool reuse_address = false;          // SO_REUSEADDR + SO_REUSEPORT
+  int receive_buffer_bytes = 4 * 1024 * 1024;
+  void validate() const;
+};
+
+/// Opens a capture. Throws std::runtime_error with a one-line reason when the file is
+/// missing, unreadable or not a capture.
+std::unique_ptr<PacketSource> open_pcap_source(const PcapSourceConfig& config);
+
+/// Binds the sockets. Throws std::runtime_error when the port is in use or the address bad.
+/// `granted_buffer_bytes` (optional) receives the kernel's actual receive buffer size.
+std::unique_ptr<PacketSource> open_udp_source(const UdpSourceConfig& config,
+                                              int* granted_buffer_bytes = nullptr);
+
+}  // namespace vlpground
