@@ -1,1 +1,343 @@
-// placeholder: implemented by its owner
+#include "vlpground/pipeline.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+#include <utility>
+
+#include "frame_queue.hpp"
+#include "latency_histogram.hpp"
+
+namespace vlpground {
+namespace {
+
+std::int64_t steady_now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+double ms_since(std::int64_t from_ns, std::int64_t to_ns) {
+  return static_cast<double>(to_ns - from_ns) * 1e-6;
+}
+
+std::uint64_t count_returns(const Frame& f) {
+  std::uint64_t n = 0;
+  const int layers = f.layers();
+  for (int l = 0; l < layers; ++l) {
+    const auto& valid = f.layer[l].valid;
+    for (int ring = 0; ring < kLasers; ++ring) {
+      const std::size_t row = f.index(ring, 0);
+      for (int c = 0; c < f.columns(); ++c) n += valid[row + static_cast<std::size_t>(c)];
+    }
+  }
+  return n;
+}
+
+}  // namespace
+
+void PipelineConfig::validate() const {
+  if (queue_frames < 1 || queue_frames > 256) {
+    throw std::invalid_argument("PipelineConfig.queue_frames must be in [1, 256], got " +
+                                std::to_string(queue_frames));
+  }
+  if (read_timeout_ms < 1 || read_timeout_ms > 60'000) {
+    throw std::invalid_argument("PipelineConfig.read_timeout_ms must be in [1, 60000], got " +
+                                std::to_string(read_timeout_ms));
+  }
+  if (pcap) {
+    pcap->validate();
+  } else {
+    udp.validate();
+  }
+  decoder.validate();
+  assembler.validate();
+  detector.validate();
+}
+
+struct Pipeline::Impl {
+  explicit Impl(PipelineConfig c)
+      : config(std::move(c)),
+        queue(config.queue_frames, config.assembler.capacity_columns),
+        detector(config.detector) {
+    result.reserve(config.assembler.capacity_columns);
+  }
+
+  PipelineConfig config;
+  std::unique_ptr<PacketSource> injected_source;
+  FrameCallback frame_cb;
+  TelemetryCallback telemetry_cb;
+  DiagnosticsCallback diagnostics_cb;
+
+  std::unique_ptr<CaptureReader> reader;
+  detail::FrameQueue queue;
+  GroundDetector detector;
+  GroundResult result;
+  bool live = false;
+  bool started = false;
+  std::atomic<bool> stop_requested{false};
+
+  std::thread reader_thread, detector_thread;
+  std::mutex join_mutex;
+  std::mutex done_mutex;
+  std::condition_variable done_cv;
+  bool reader_done = false, detector_done = false;
+
+  mutable std::mutex stats_mutex;
+  PipelineStats counters;  // latency/detect filled from the histograms in snapshot()
+  detail::LatencyHistogram latency, detect_time;
+  std::int64_t start_ns = 0;
+
+  std::mutex diagnostics_mutex;
+
+  PipelineStats snapshot() const {
+    std::lock_guard lock(stats_mutex);
+    PipelineStats s = counters;
+    s.latency = latency.summary();
+    s.detect = detect_time.summary();
+    s.elapsed_s = start_ns == 0 ? 0.0 : ms_since(start_ns, steady_now_ns()) * 1e-3;
+    return s;
+  }
+
+  void diagnose(DiagnosticKind kind, std::string message) {
+    if (!diagnostics_cb) return;
+    Diagnostic d{kind, std::move(message), snapshot()};
+    std::lock_guard lock(diagnostics_mutex);
+    try {
+      diagnostics_cb(d);
+    } catch (...) {
+      // A throwing diagnostics callback must not take the pipeline down; nothing to report to.
+    }
+  }
+
+  void request_stop() {
+    stop_requested = true;
+    queue.stop();
+    if (reader) reader->request_stop();
+  }
+
+  void update_capture_counters() {
+    const CaptureCounters c = reader->counters();
+    const double progress = reader->source().progress();
+    std::lock_guard lock(stats_mutex);
+    counters.capture = c;
+    counters.progress = progress;
+  }
+
+  bool drop_oldest() const {
+    switch (config.backpressure) {
+      case Backpressure::block:
+        return false;
+      case Backpressure::drop_oldest:
+        return true;
+      case Backpressure::automatic:
+        break;
+    }
+    return live;
+  }
+
+  void run_reader() {
+    try {
+      read_frames();
+    } catch (const std::exception& e) {
+      diagnose(DiagnosticKind::source_error, std::string("reader failed: ") + e.what());
+    } catch (...) {
+      diagnose(DiagnosticKind::source_error, "reader failed: unknown exception");
+    }
+    update_capture_counters();
+    queue.close();
+    mark_done(reader_done);
+  }
+
+  void read_frames() {
+    const bool drop = drop_oldest();
+    Frame* filling = queue.first_free();
+    while (!stop_requested) {
+      const ReadStatus status = reader->next(*filling, config.read_timeout_ms);
+      update_capture_counters();
+      if (status == ReadStatus::end_of_input || status == ReadStatus::stopped) return;
+      if (status != ReadStatus::frame) continue;
+      {
+        std::lock_guard lock(stats_mutex);
+        ++counters.frames_assembled;
+      }
+      bool dropped = false;
+      filling = queue.push(filling, drop, dropped);
+      if (dropped) {
+        std::uint64_t total = 0;
+        {
+          std::lock_guard lock(stats_mutex);
+          total = ++counters.frames_dropped;
+        }
+        diagnose(DiagnosticKind::frame_dropped,
+                 "detector behind: dropped the oldest pending frame (" + std::to_string(total) +
+                     " dropped so far)");
+      }
+      if (filling == nullptr) return;  // stopped while blocked
+    }
+  }
+
+  void run_detector() {
+    std::uint64_t delivered = 0;
+    while (Frame* frame = queue.pop()) {
+      deliver(*frame, delivered++);
+      queue.release(frame);
+      if (config.max_frames != 0 && delivered >= config.max_frames) request_stop();
+    }
+    {
+      std::unique_lock lock(done_mutex);
+      done_cv.wait(lock, [&] { return reader_done; });
+    }
+    {
+      std::lock_guard lock(stats_mutex);
+      counters.finished = true;
+    }
+    diagnose(DiagnosticKind::finished, stop_requested ? "stopped" : "end of input");
+    mark_done(detector_done);
+  }
+
+  void deliver(const Frame& frame, std::uint64_t index) {
+    const std::int64_t t0 = steady_now_ns();
+    detector.detect(frame, result);
+    const std::int64_t t1 = steady_now_ns();
+    FrameTimings timings;
+    timings.detect_ms = ms_since(t0, t1);
+    const bool has_stamp = frame.meta.completed_receive_ns > 0;
+    if (has_stamp) timings.latency_ms = ms_since(frame.meta.completed_receive_ns, t1);
+    const std::uint64_t returns = count_returns(frame);
+    {
+      std::lock_guard lock(stats_mutex);
+      detect_time.record(timings.detect_ms);
+      if (has_stamp) latency.record(timings.latency_ms);
+      ++counters.frames_delivered;
+      counters.incomplete_frames += frame.meta.complete ? 0 : 1;
+      counters.returns += returns;
+      counters.ground_returns += result.ground_returns;
+    }
+    if (!frame_cb) return;
+    try {
+      frame_cb(LabelledFrame{frame, result, timings, index});
+    } catch (const std::exception& e) {
+      note_callback_exception(std::string("frame callback threw: ") + e.what());
+    } catch (...) {
+      note_callback_exception("frame callback threw a non-std exception");
+    }
+  }
+
+  void note_callback_exception(std::string message) {
+    {
+      std::lock_guard lock(stats_mutex);
+      ++counters.callback_exceptions;
+    }
+    diagnose(DiagnosticKind::callback_exception, std::move(message));
+  }
+
+  void mark_done(bool& flag) {
+    {
+      std::lock_guard lock(done_mutex);
+      flag = true;
+    }
+    done_cv.notify_all();
+  }
+
+  void open_reader() {
+    std::unique_ptr<PacketSource> source = std::move(injected_source);
+    if (!source) {
+      source = config.pcap ? open_pcap_source(*config.pcap) : open_udp_source(config.udp);
+    }
+    live = source->is_live();
+    reader = std::make_unique<CaptureReader>(std::move(source), config.decoder, config.assembler);
+    reader->on_warning([this](const std::string& w) { diagnose(DiagnosticKind::warning, w); });
+    if (telemetry_cb) {
+      reader->on_position([this](const PositionPacket& p) {
+        try {
+          telemetry_cb(p);
+        } catch (const std::exception& e) {
+          diagnose(DiagnosticKind::callback_exception,
+                   std::string("telemetry callback threw: ") + e.what());
+        } catch (...) {
+          diagnose(DiagnosticKind::callback_exception, "telemetry callback threw");
+        }
+      });
+    }
+  }
+
+  void join() {
+    if (std::this_thread::get_id() == detector_thread.get_id() ||
+        std::this_thread::get_id() == reader_thread.get_id()) {
+      throw std::logic_error("Pipeline::wait() called from a pipeline callback");
+    }
+    std::lock_guard lock(join_mutex);
+    if (reader_thread.joinable()) reader_thread.join();
+    if (detector_thread.joinable()) detector_thread.join();
+  }
+};
+
+Pipeline::Pipeline(PipelineConfig config) : Pipeline(std::move(config), nullptr) {}
+
+Pipeline::Pipeline(PipelineConfig config, std::unique_ptr<PacketSource> source) {
+  if (!source)
+    config.validate();
+  else {
+    config.decoder.validate();
+    config.assembler.validate();
+    if (config.queue_frames < 1) throw std::invalid_argument("queue_frames must be >= 1");
+  }
+  impl_ = std::make_unique<Impl>(std::move(config));
+  impl_->injected_source = std::move(source);
+}
+
+Pipeline::~Pipeline() {
+  impl_->request_stop();
+  impl_->join();
+}
+
+void Pipeline::on_frame(FrameCallback callback) { impl_->frame_cb = std::move(callback); }
+void Pipeline::on_telemetry(TelemetryCallback callback) {
+  impl_->telemetry_cb = std::move(callback);
+}
+void Pipeline::on_diagnostics(DiagnosticsCallback callback) {
+  impl_->diagnostics_cb = std::move(callback);
+}
+
+void Pipeline::start() {
+  if (impl_->started) throw std::logic_error("Pipeline::start() called twice");
+  impl_->started = true;
+  impl_->open_reader();
+  {
+    std::lock_guard lock(impl_->stats_mutex);
+    impl_->counters.live = impl_->live;
+    impl_->start_ns = steady_now_ns();
+  }
+  if (impl_->stop_requested) impl_->request_stop();  // stop() raced ahead of start()
+  impl_->reader_thread = std::thread([this] { impl_->run_reader(); });
+  impl_->detector_thread = std::thread([this] { impl_->run_detector(); });
+}
+
+void Pipeline::stop() { impl_->request_stop(); }
+
+void Pipeline::wait() {
+  if (!impl_->started) return;
+  impl_->join();
+}
+
+bool Pipeline::wait_for(int timeout_ms) {
+  if (!impl_->started) return true;
+  {
+    std::unique_lock lock(impl_->done_mutex);
+    const bool done = impl_->done_cv.wait_for(lock, std::chrono::milliseconds(timeout_ms), [&] {
+      return impl_->reader_done && impl_->detector_done;
+    });
+    if (!done) return false;
+  }
+  impl_->join();
+  return true;
+}
+
+PipelineStats Pipeline::stats() const { return impl_->snapshot(); }
+
+}  // namespace vlpground

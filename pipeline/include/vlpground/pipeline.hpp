@@ -1,5 +1,147 @@
-// Placeholder: the Pipeline API is designed by the pipeline work (issue 5).
+// vlpground::Pipeline: packets -> frames -> ground labels -> your callback, on two threads.
+//
+// Acquisition thread: PacketSource -> PacketDecoder -> RotationAssembler (a CaptureReader).
+// Detection thread: GroundDetector, then the frame callback. The two are joined by a bounded
+// queue of preallocated frames; nothing is allocated per frame in steady state.
+//
+// Backpressure (PipelineConfig::backpressure): live sources drop the OLDEST pending frame when
+// the detector falls behind (counted in PipelineStats::frames_dropped and reported through the
+// diagnostics callback); pcap replay blocks the reader instead, so no frame is lost.
+//
+// Thread-safety: start(), stop(), wait() and stats() may be called from any thread; stop() also
+// from inside a callback. wait() and the destructor must not be called from a callback.
+// The frame callback runs on the detection thread, the telemetry callback on the acquisition
+// thread, the diagnostics callback on either (calls are serialised, never concurrent).
 #pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
 #include "vlpground/detector/ground_detector.hpp"
+#include "vlpground/driver/capture_reader.hpp"
 #include "vlpground/driver/packet_source.hpp"
+#include "vlpground/driver/position_packet.hpp"
 #include "vlpground/driver/rotation_assembler.hpp"
+#include "vlpground/frame.hpp"
+
+namespace vlpground {
+
+enum class Backpressure : std::uint8_t {
+  automatic,    // drop_oldest for live sources, block for replay
+  block,        // the reader waits for the detector: no frame lost
+  drop_oldest,  // the oldest pending frame is dropped (counted) to make room
+};
+
+struct PipelineConfig {
+  // The source: a pcap file when `pcap` is set, else a UDP socket (`udp`). Ignored when a
+  // PacketSource is handed to the Pipeline constructor.
+  std::optional<PcapSourceConfig> pcap;
+  UdpSourceConfig udp;
+  DecoderConfig decoder;
+  AssemblerConfig assembler;
+  DetectorConfig detector;
+
+  Backpressure backpressure = Backpressure::automatic;
+  int queue_frames = 4;          // pending frames between the two threads (>= 1)
+  std::uint64_t max_frames = 0;  // stop after delivering this many frames; 0 = no limit
+  int read_timeout_ms = 200;     // how often the reader wakes up when no packet arrives
+
+  /// Throws std::invalid_argument with a clear message (also validates the sub-configs).
+  void validate() const;
+};
+
+/// Time from the arrival of a rotation's last packet (FrameMeta::completed_receive_ns) to
+/// the start of its callback, and detector time per frame. Percentiles come from a fixed
+/// histogram of 10 us bins up to 500 ms (exact to 10 us).
+struct LatencyStats {
+  std::uint64_t samples = 0;
+  double p50_ms = 0, p99_ms = 0, max_ms = 0, mean_ms = 0;
+};
+
+struct PipelineStats {
+  std::uint64_t frames_assembled = 0;  // frames produced by the reader
+  std::uint64_t frames_delivered = 0;  // callbacks invoked (exception or not)
+  std::uint64_t frames_dropped = 0;    // dropped by the drop-oldest policy
+  std::uint64_t callback_exceptions = 0;
+  std::uint64_t incomplete_frames = 0;  // delivered frames with meta.complete == false
+  std::uint64_t returns = 0;            // valid returns in delivered frames (all layers)
+  std::uint64_t ground_returns = 0;
+  CaptureCounters capture;  // source, decoder and assembler counters
+  LatencyStats latency;     // completed_receive_ns -> callback
+  LatencyStats detect;      // GroundDetector::detect
+  double progress = -1.0;   // fraction of the input read (replay), -1 live
+  double elapsed_s = 0.0;   // since start()
+  bool live = false;
+  bool finished = false;  // both threads ended
+};
+
+/// Timings of one delivered frame.
+struct FrameTimings {
+  double detect_ms = 0;   // GroundDetector::detect
+  double latency_ms = 0;  // completed_receive_ns -> callback (0 when the stamp is unknown)
+};
+
+/// What the frame callback receives. References are valid only during the callback.
+struct LabelledFrame {
+  const Frame& frame;          // range image + per-column data + FrameMeta
+  const GroundResult& ground;  // labels, heights, the four planes, partition centre, timings
+  FrameTimings timings;
+  std::uint64_t delivered_index;  // 0, 1, 2, ... in delivery order (gaps in meta.sequence
+                                  // mean dropped frames)
+};
+
+enum class DiagnosticKind : std::uint8_t {
+  warning,             // from the decoder / reader (once per distinct warning)
+  frame_dropped,       // drop-oldest policy dropped a pending frame
+  callback_exception,  // the frame callback threw; the pipeline goes on
+  source_error,        // the reader failed (exception); input ends
+  finished,            // input ended or stop() was requested; final counters follow
+};
+
+struct Diagnostic {
+  DiagnosticKind kind = DiagnosticKind::warning;
+  std::string message;
+  PipelineStats stats;  // snapshot of the counters at the time of the event
+};
+
+using FrameCallback = std::function<void(const LabelledFrame&)>;
+using TelemetryCallback = std::function<void(const PositionPacket&)>;
+using DiagnosticsCallback = std::function<void(const Diagnostic&)>;
+
+class Pipeline {
+ public:
+  /// Validates `config` (std::invalid_argument). The source is opened by start().
+  explicit Pipeline(PipelineConfig config);
+  /// Uses `source` instead of the one described by `config` (tests, custom transports).
+  Pipeline(PipelineConfig config, std::unique_ptr<PacketSource> source);
+  /// Stops and joins both threads.
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  // Set callbacks before start().
+  void on_frame(FrameCallback callback);
+  void on_telemetry(TelemetryCallback callback);
+  void on_diagnostics(DiagnosticsCallback callback);
+
+  /// Opens the source (std::runtime_error with a one-line reason when it cannot) and starts
+  /// both threads. Throws std::logic_error when called twice.
+  void start();
+  /// Asks both threads to end; returns at once. Pending frames are discarded. Idempotent.
+  void stop();
+  /// Blocks until the input ends and every pending frame was delivered, or until stop().
+  void wait();
+  /// Waits at most `timeout_ms`; returns true when the pipeline has finished.
+  bool wait_for(int timeout_ms);
+
+  [[nodiscard]] PipelineStats stats() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vlpground
