@@ -1,1 +1,317 @@
-// placeholder: implemented by its owner
+// The paper's method ("tangent"): eq. 3 inlier test with ring tangents, RANSAC hypotheses,
+// disjoint cross partition found by Algorithm 1 over integral images, plus the
+// plausibility additions documented in docs/detector.md.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "hypotheses.hpp"
+#include "method.hpp"
+#include "partition_search.hpp"
+#include "tangents.hpp"
+
+namespace vlpground::detail {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Index = std::size_t;
+
+Index idx(int v) { return static_cast<Index>(v); }
+Index idx(std::int32_t v, int) { return static_cast<Index>(v); }
+
+double ms_since(Clock::time_point& t) {
+  const auto now = Clock::now();
+  const double ms = std::chrono::duration<double, std::milli>(now - t).count();
+  t = now;
+  return ms;
+}
+
+constexpr float kDegToRad = static_cast<float>(M_PI / 180.0);
+// Returns higher than this above their bin's lowest return cannot be inliers of (or lie
+// under) a plausible plane of that bin; they are left out of scoring.
+constexpr float kCandidateBand_m = 1.0f;
+
+float signed_height(const Plane& p, float x, float y, float z) {
+  return p.nx * x + p.ny * y + p.nz * z + p.d;
+}
+
+class TangentMethod final : public Method {
+ public:
+  explicit TangentMethod(const DetectorConfig& c) : cfg_(c) {
+    bins_ = c.grid_bins;
+    bin_ = static_cast<float>(c.bin_size_m);
+    half_ = 0.5f * bin_ * static_cast<float>(bins_);
+    radius_ = static_cast<float>(c.fit_radius_m);
+    eps_ = static_cast<float>(c.inlier_distance_m);
+    sin_delta_ = std::sin(static_cast<float>(c.tangent_angle_deg) * kDegToRad);
+    sub_ = c.subsample_cell_m > 0
+               ? std::max(1, static_cast<int>(std::ceil(c.bin_size_m / c.subsample_cell_m)))
+               : 0;
+    origin_x_ = static_cast<float>(c.extrinsics.x_m);
+    origin_y_ = static_cast<float>(c.extrinsics.y_m);
+  }
+
+  void detect(const Frame& frame, const Cloud& cloud, GroundResult& out) override {
+    auto t = Clock::now();
+    compute_tangents(cloud, TangentParams{}, tangents_);
+    out.timings.tangents_ms = ms_since(t);
+    bin_points(cloud);
+    select_candidates(cloud);
+    SamplingParams sp;
+    sp.bins = bins_;
+    sp.hypotheses = cfg_.hypotheses;
+    sp.min_nz = std::cos(static_cast<float>(cfg_.max_tilt_deg) * kDegToRad);
+    sp.sin_delta = sin_delta_;
+    sp.seed = cfg_.seed;
+    sample_hypotheses(low_, sp, planes_);
+    out.timings.hypotheses_ms = ms_since(t);
+    score_bins();
+    out.timings.inliers_ms = ms_since(t);
+    SearchInput in;
+    in.bins = bins_;
+    in.hypotheses = static_cast<int>(planes_.size());
+    in.bin_slot = bin_slot_.data();
+    in.slot_scores = scores_.data();
+    in.min_segment_score = cfg_.min_segment_inliers;
+    in.allow_empty_segments = true;
+    SearchResult found;
+    if (in.hypotheses > 0) found = search_partition(in, search_scratch_);
+    out.timings.search_ms = ms_since(t);
+    choose_planes(found, cloud, out);
+    label(frame, cloud, out);
+    out.timings.labelling_ms = ms_since(t);
+  }
+
+ private:
+  [[nodiscard]] int bin_of(float x, float y) const {
+    const float fx = (x - origin_x_ + half_) / bin_, fy = (y - origin_y_ + half_) / bin_;
+    if (!(fx >= 0 && fy >= 0)) return -1;
+    const int c = static_cast<int>(fx), r = static_cast<int>(fy);
+    if (c >= bins_ || r >= bins_) return -1;
+    return r * bins_ + c;
+  }
+
+  // Counting sort of the fitting returns (within the radius and the square) by bin.
+  void bin_points(const Cloud& cloud) {
+    const Index n = cloud.size(), nb = idx(bins_ * bins_);
+    point_bin_.resize(n);
+    bin_start_.assign(nb + 1, 0);
+    for (Index i = 0; i < n; ++i) {
+      const int b = cloud.range_xy[i] <= radius_ ? bin_of(cloud.x[i], cloud.y[i]) : -1;
+      point_bin_[i] = b;
+      if (b >= 0) ++bin_start_[idx(b) + 1];
+    }
+    for (Index b = 0; b < nb; ++b) bin_start_[b + 1] += bin_start_[b];
+    sorted_.resize(idx(bin_start_[nb]));
+    fill_.assign(bin_start_.begin(), bin_start_.end() - 1);
+    for (Index i = 0; i < n; ++i)
+      if (point_bin_[i] >= 0)
+        sorted_[idx(fill_[idx(point_bin_[i])]++)] = static_cast<std::int32_t>(i);
+  }
+
+  // Per bin: scoring candidates (sub-sampled on the sub_ x sub_ grid, within the band above
+  // the bin's lowest return) and the low point used for sampling hypotheses.
+  void select_candidates(const Cloud& cloud) {
+    const Index nb = idx(bins_ * bins_);
+    bin_slot_.assign(nb, -1);
+    low_.slot_of_bin.assign(nb, -1);
+    for (auto* v : {&cx_, &cy_, &cz_, &ctx_, &cty_, &ctz_}) v->clear();
+    for (auto* v : {&low_.x, &low_.y, &low_.z, &low_.tx, &low_.ty, &low_.tz}) v->clear();
+    low_.col.clear();
+    low_.row.clear();
+    slot_start_.clear();
+    stamp_.resize(idx(std::max(1, sub_ * sub_)));
+    for (Index b = 0; b < nb; ++b) {
+      const Index begin = idx(bin_start_[b]), end = idx(bin_start_[b + 1]);
+      if (begin == end) continue;
+      float zmin = std::numeric_limits<float>::max();
+      for (Index k = begin; k < end; ++k) zmin = std::min(zmin, cloud.z[idx(sorted_[k], 0)]);
+      if (++stamp_value_ == 0) std::fill(stamp_.begin(), stamp_.end(), stamp_value_++);
+      const auto slot = static_cast<std::int32_t>(slot_start_.size());
+      slot_start_.push_back(static_cast<std::int32_t>(cx_.size()));
+      bin_slot_[b] = slot;
+      const int col = static_cast<int>(b % idx(bins_)), row = static_cast<int>(b / idx(bins_));
+      const float x0 = origin_x_ - half_ + static_cast<float>(col) * bin_;
+      const float y0 = origin_y_ - half_ + static_cast<float>(row) * bin_;
+      Index lowest = end;
+      for (Index k = begin; k < end; ++k) {
+        const Index i = idx(sorted_[k], 0);
+        if (cloud.z[i] > zmin + kCandidateBand_m) continue;
+        if (sub_ > 0) {
+          const int sx = std::min(
+              sub_ - 1, static_cast<int>((cloud.x[i] - x0) / bin_ * static_cast<float>(sub_)));
+          const int sy = std::min(
+              sub_ - 1, static_cast<int>((cloud.y[i] - y0) / bin_ * static_cast<float>(sub_)));
+          std::uint32_t& s = stamp_[idx(std::max(0, sy) * sub_ + std::max(0, sx))];
+          if (s == stamp_value_) continue;
+          s = stamp_value_;
+        }
+        cx_.push_back(cloud.x[i]);
+        cy_.push_back(cloud.y[i]);
+        cz_.push_back(cloud.z[i]);
+        ctx_.push_back(tangents_.x[i]);
+        cty_.push_back(tangents_.y[i]);
+        ctz_.push_back(tangents_.z[i]);
+        if (tangents_.valid[i] && (lowest == end || cloud.z[i] < cloud.z[lowest])) lowest = i;
+      }
+      if (lowest == end) continue;
+      low_.slot_of_bin[b] = static_cast<std::int32_t>(low_.x.size());
+      low_.x.push_back(cloud.x[lowest]);
+      low_.y.push_back(cloud.y[lowest]);
+      low_.z.push_back(cloud.z[lowest]);
+      low_.tx.push_back(tangents_.x[lowest]);
+      low_.ty.push_back(tangents_.y[lowest]);
+      low_.tz.push_back(tangents_.z[lowest]);
+      low_.col.push_back(col);
+      low_.row.push_back(row);
+    }
+    slot_start_.push_back(static_cast<std::int32_t>(cx_.size()));
+  }
+
+  // b_m(c, r) of Algorithm 1, as a net score: eq. 3 inliers minus a penalty for candidates
+  // clearly under the plane. Per bin one contiguous row of M scores (M innermost).
+  void score_bins() {
+    const Index m_count = planes_.size();
+    const Index slots = slot_start_.size() - 1;
+    scores_.resize(slots * m_count);
+    const float* nx = planes_.nx.data();
+    const float* ny = planes_.ny.data();
+    const float* nz = planes_.nz.data();
+    const float* d = planes_.d.data();
+    const float eps = eps_, sin_delta = sin_delta_;
+    const float below = -static_cast<float>(cfg_.below_distance_m);
+    const std::int32_t penalty = cfg_.below_penalty;
+    for (Index s = 0; s < slots; ++s) {
+      std::int32_t* row = scores_.data() + s * m_count;
+      std::fill_n(row, m_count, 0);
+      for (Index k = idx(slot_start_[s]); k < idx(slot_start_[s + 1]); ++k) {
+        const float x = cx_[k], y = cy_[k], z = cz_[k], tx = ctx_[k], ty = cty_[k], tz = ctz_[k];
+        for (Index m = 0; m < m_count; ++m) {
+          const float dist = nx[m] * x + ny[m] * y + nz[m] * z + d[m];  // eq. 3, line 1
+          const float dot = nx[m] * tx + ny[m] * ty + nz[m] * tz;       // eq. 3, line 2
+          const std::int32_t inlier = (std::abs(dist) < eps) & (std::abs(dot) < sin_delta);
+          row[m] += inlier - penalty * static_cast<std::int32_t>(dist < below);
+        }
+      }
+    }
+  }
+
+  // Segment s of the found partition; x/y bounds in the vehicle frame.
+  void set_bounds(const SearchResult& f, GroundResult& out) const {
+    const float x_lo = origin_x_ - half_, y_lo = origin_y_ - half_;
+    out.centre_x_m = x_lo + static_cast<float>(f.centre_col) * bin_;
+    out.centre_y_m = y_lo + static_cast<float>(f.centre_row) * bin_;
+    for (int s = 0; s < 4; ++s) {
+      GroundSegment& g = out.segments[idx(s)];
+      g.x_min_m = (s & 1) ? out.centre_x_m : x_lo;
+      g.x_max_m = (s & 1) ? x_lo + 2 * half_ : out.centre_x_m;
+      g.y_min_m = (s & 2) ? out.centre_y_m : y_lo;
+      g.y_max_m = (s & 2) ? y_lo + 2 * half_ : out.centre_y_m;
+    }
+  }
+
+  [[nodiscard]] static int segment_of(const GroundResult& out, float x, float y) {
+    return (x >= out.centre_x_m ? 1 : 0) + (y >= out.centre_y_m ? 2 : 0);
+  }
+
+  // Least-squares refinement of each segment plane on its full-resolution eq. 3 inliers.
+  void refine(const Cloud& cloud, GroundResult& out) {
+    PlaneFit fits[4];
+    for (Index i = 0; i < cloud.size(); ++i) {
+      if (point_bin_[i] < 0 || !tangents_.valid[i]) continue;
+      const int s = segment_of(out, cloud.x[i], cloud.y[i]);
+      const Plane& p = out.segments[idx(s)].plane;
+      if (!out.segments[idx(s)].has_ground) continue;
+      if (std::abs(signed_height(p, cloud.x[i], cloud.y[i], cloud.z[i])) >= eps_) continue;
+      if (std::abs(p.nx * tangents_.x[i] + p.ny * tangents_.y[i] + p.nz * tangents_.z[i]) >=
+          sin_delta_)
+        continue;
+      fits[s].add(cloud.x[i], cloud.y[i], cloud.z[i]);
+    }
+    const float min_nz = std::cos(static_cast<float>(cfg_.max_tilt_deg) * kDegToRad);
+    out.total_inliers = 0;
+    for (int s = 0; s < 4; ++s) {
+      GroundSegment& g = out.segments[idx(s)];
+      if (!g.has_ground) continue;
+      g.inliers = fits[s].count();
+      out.total_inliers += g.inliers;
+      Plane refined;
+      if (fits[s].solve(refined) && refined.nz >= min_nz) g.plane = refined;
+    }
+  }
+
+  // Segments without ground inherit the plane of the best-scoring neighbour with ground.
+  static void inherit(const SearchResult& f, GroundResult& out, bool (&own)[4]) {
+    for (int s = 0; s < 4; ++s) own[s] = out.segments[idx(s)].has_ground;
+    for (int s = 0; s < 4; ++s) {
+      if (own[s]) continue;
+      int donor = -1;
+      for (int o : {s ^ 1, s ^ 2, s ^ 3})
+        if (own[o] && (donor < 0 || f.score[idx(o)] > f.score[idx(donor)])) donor = o;
+      if (donor < 0) continue;
+      out.segments[idx(s)].plane = out.segments[idx(donor)].plane;
+    }
+  }
+
+  void choose_planes(const SearchResult& f, const Cloud& cloud, GroundResult& out) {
+    set_bounds(f, out);
+    for (int s = 0; s < 4; ++s) {
+      GroundSegment& g = out.segments[idx(s)];
+      g.has_ground = f.found && f.plane[idx(s)] >= 0;
+      if (g.has_ground) g.plane = planes_.at(idx(f.plane[idx(s)]));
+    }
+    refine(cloud, out);
+    inherit(f, out, own_);
+  }
+
+  void label(const Frame& frame, const Cloud& cloud, GroundResult& out) const {
+    bool any = false;
+    for (bool o : own_) any = any || o;
+    const float sin_label = std::sin(2.0f * static_cast<float>(cfg_.tangent_angle_deg) * kDegToRad);
+    const float growth = static_cast<float>(cfg_.label_growth_per_m);
+    (void)frame;
+    for (Index i = 0; i < cloud.size(); ++i) {
+      const Index cell = cloud.cell[i];
+      const int layer = cloud.layer[i];
+      auto& lab = out.label[layer][cell];
+      if (!any) {
+        lab = static_cast<std::uint8_t>(GroundLabel::obstacle);
+        continue;
+      }
+      const Plane& p = out.segments[idx(segment_of(out, cloud.x[i], cloud.y[i]))].plane;
+      const float h = signed_height(p, cloud.x[i], cloud.y[i], cloud.z[i]);
+      out.height_m[layer][cell] = h;
+      const float thr = eps_ + growth * std::max(0.f, cloud.range_xy[i] - radius_);
+      bool ground = std::abs(h) < thr;
+      if (ground && tangents_.valid[i]) {
+        const float dot = p.nx * tangents_.x[i] + p.ny * tangents_.y[i] + p.nz * tangents_.z[i];
+        ground = std::abs(dot) < sin_label;
+      }
+      lab = static_cast<std::uint8_t>(ground ? GroundLabel::ground : GroundLabel::obstacle);
+    }
+  }
+
+  DetectorConfig cfg_;
+  int bins_ = 0, sub_ = 0;
+  float bin_ = 1, half_ = 0, radius_ = 0, eps_ = 0, sin_delta_ = 0, origin_x_ = 0, origin_y_ = 0;
+  Tangents tangents_;
+  std::vector<int> point_bin_;
+  std::vector<std::int32_t> bin_start_, fill_, sorted_, bin_slot_, slot_start_;
+  std::vector<float> cx_, cy_, cz_, ctx_, cty_, ctz_;
+  std::vector<std::uint32_t> stamp_;
+  std::uint32_t stamp_value_ = 0;
+  LowPoints low_;
+  PlaneSet planes_;
+  std::vector<std::int32_t> scores_, search_scratch_;
+  bool own_[4] = {false, false, false, false};
+};
+
+}  // namespace
+
+std::unique_ptr<Method> make_tangent_method(const DetectorConfig& config) {
+  return std::make_unique<TangentMethod>(config);
+}
+
+}  // namespace vlpground::detail

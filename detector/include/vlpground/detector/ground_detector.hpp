@@ -24,10 +24,10 @@ struct Extrinsics {
 };
 
 struct DetectorConfig {
-  std::string method = "tangent";   // "tangent" | "ransac" | "lpr"
+  std::string method = "tangent";  // "tangent" | "ransac" | "lpr"
   Extrinsics extrinsics;
-  double fit_radius_m = 40.0;       // returns used for fitting
-  int grid_bins = 80;               // B
+  double fit_radius_m = 40.0;  // returns used for fitting
+  int grid_bins = 80;          // B
   double bin_size_m = 1.0;
   int hypotheses = 200;             // M
   double inlier_distance_m = 0.2;   // epsilon
@@ -35,6 +35,13 @@ struct DetectorConfig {
   int min_segment_inliers = 30;     // T
   double subsample_cell_m = 0.1;    // 0 = no sub-sampling for scoring
   std::uint64_t seed = 1;
+
+  // Plausibility additions to the paper (docs/detector.md says what each one buys).
+  double max_tilt_deg = 12.0;        // hypotheses steeper than this are not ground
+  double below_distance_m = 0.3;     // a return this far under a plane counts against it
+  int below_penalty = 2;             // score = inliers - penalty * returns below (per bin)
+  double max_step_m = 0.4;           // adjacent segment planes must agree within this
+  double label_growth_per_m = 0.02;  // beyond fit_radius_m the threshold grows by this/m
 
   /// Throws std::invalid_argument naming the bad field and its valid range.
   void validate() const;
@@ -54,8 +61,8 @@ struct GroundSegment {
 };
 
 struct StageTimings {
-  double tangents_ms = 0, hypotheses_ms = 0, inliers_ms = 0, integral_ms = 0, search_ms = 0,
-         labelling_ms = 0, total_ms = 0;
+  double cloud_ms = 0, tangents_ms = 0, hypotheses_ms = 0, inliers_ms = 0, integral_ms = 0,
+         search_ms = 0, labelling_ms = 0, total_ms = 0;
 };
 
 /// Per-cell output, laid out like the frame (index = ring * stride + col) per layer.

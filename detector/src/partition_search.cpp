@@ -1,0 +1,185 @@
+// Algorithm 1 (paper, Sec. III-B): exhaustive cross-partition search with integral images.
+#include "partition_search.hpp"
+
+#include <algorithm>
+#include <cstddef>
+
+namespace vlpground::detail {
+
+namespace {
+
+using Index = std::size_t;
+
+Index idx(int a) { return static_cast<Index>(a); }
+
+// Segment value under the T rule; false when the centre is disqualified.
+bool segment_value(const SearchInput& in, std::int64_t best, std::int64_t& value, bool& ground) {
+  ground = best >= in.min_segment_score;
+  if (ground) {
+    value = best;
+    return true;
+  }
+  value = 0;
+  return in.allow_empty_segments;
+}
+
+// Applies the decision rule to the four segment maxima of one centre; returns true when
+// the centre beats `result` (then `result` holds its totals, planes still to be filled).
+bool consider_centre(const SearchInput& in, const std::array<std::int64_t, 4>& maxima, int c, int r,
+                     SearchResult& result, std::array<bool, 4>& ground) {
+  std::int64_t total = 0;
+  std::array<std::int64_t, 4> values{};
+  for (int s = 0; s < 4; ++s) {
+    if (!segment_value(in, maxima[idx(s)], values[idx(s)], ground[idx(s)])) return false;
+    total += values[idx(s)];
+  }
+  if (result.found && total <= result.total) return false;
+  result.found = true;
+  result.total = total;
+  result.centre_col = c;
+  result.centre_row = r;
+  result.score = values;
+  return true;
+}
+
+}  // namespace
+
+SearchResult search_partition(const SearchInput& in, std::vector<std::int32_t>& scratch) {
+  const int b = in.bins;
+  const Index m_count = idx(in.hypotheses);
+  // Layout: column totals I(c+1,B)-I(c,B) [B x M], column prefixes over rows < r [B x M],
+  // I(B,B), I(B,r), I(c,r), I(c,B) [M each].
+  scratch.assign(idx(2 * b + 4) * m_count, 0);
+  std::int32_t* col_total = scratch.data();
+  std::int32_t* col_prefix = col_total + idx(b) * m_count;
+  std::int32_t* total = col_prefix + idx(b) * m_count;
+  std::int32_t* row_total = total + m_count;
+  std::int32_t* acc = row_total + m_count;
+  std::int32_t* acc_bottom = acc + m_count;
+
+  for (int r = 0; r < b; ++r) {
+    for (int c = 0; c < b; ++c) {
+      const std::int32_t slot = in.bin_slot[idx(r * b + c)];
+      if (slot < 0) continue;
+      const std::int32_t* s = in.slot_scores + idx(slot) * m_count;
+      std::int32_t* t = col_total + idx(c) * m_count;
+      for (Index m = 0; m < m_count; ++m) t[m] += s[m];
+    }
+  }
+  for (int c = 0; c < b; ++c) {
+    const std::int32_t* t = col_total + idx(c) * m_count;
+    for (Index m = 0; m < m_count; ++m) total[m] += t[m];
+  }
+
+  SearchResult result;
+  std::array<bool, 4> ground{};
+  for (int r = 0; r < b; ++r) {
+    std::fill_n(row_total, m_count, 0);
+    for (int c = 0; c < b; ++c) {
+      const std::int32_t* p = col_prefix + idx(c) * m_count;
+      for (Index m = 0; m < m_count; ++m) row_total[m] += p[m];
+    }
+    std::fill_n(acc, m_count, 0);
+    std::fill_n(acc_bottom, m_count, 0);
+    for (int c = 0; c < b; ++c) {
+      // Segment sums from I(c,r), I(B,r), I(c,B), I(B,B); maxima as one vectorisable pass.
+      std::int32_t m0 = acc[0], m1 = row_total[0] - acc[0], m2 = acc_bottom[0] - acc[0];
+      std::int32_t m3 = total[0] - row_total[0] - acc_bottom[0] + acc[0];
+      for (Index m = 1; m < m_count; ++m) {
+        const std::int32_t i = acc[m], ib = row_total[m], ic = acc_bottom[m];
+        m0 = std::max(m0, i);
+        m1 = std::max(m1, ib - i);
+        m2 = std::max(m2, ic - i);
+        m3 = std::max(m3, total[m] - ib - ic + i);
+      }
+      if (consider_centre(in, {m0, m1, m2, m3}, c, r, result, ground)) {
+        for (int s = 0; s < 4; ++s) {
+          result.plane[idx(s)] = -1;
+          if (!ground[idx(s)]) continue;
+          const std::int64_t want = std::array<std::int32_t, 4>{m0, m1, m2, m3}[idx(s)];
+          for (Index m = 0; m < m_count; ++m) {
+            const std::int32_t i = acc[m], ib = row_total[m], ic = acc_bottom[m];
+            const std::int32_t v = s == 0   ? i
+                                   : s == 1 ? ib - i
+                                   : s == 2 ? ic - i
+                                            : total[m] - ib - ic + i;
+            if (v == want) {
+              result.plane[idx(s)] = static_cast<int>(m);
+              break;
+            }
+          }
+        }
+      }
+      const std::int32_t* p = col_prefix + idx(c) * m_count;
+      const std::int32_t* t = col_total + idx(c) * m_count;
+      for (Index m = 0; m < m_count; ++m) {
+        acc[m] += p[m];
+        acc_bottom[m] += t[m];
+      }
+    }
+    for (int c = 0; c < b; ++c) {
+      const std::int32_t slot = in.bin_slot[idx(r * b + c)];
+      if (slot < 0) continue;
+      const std::int32_t* s = in.slot_scores + idx(slot) * m_count;
+      std::int32_t* p = col_prefix + idx(c) * m_count;
+      for (Index m = 0; m < m_count; ++m) p[m] += s[m];
+    }
+  }
+  return result;
+}
+
+std::vector<std::int64_t> integral_image(const SearchInput& in, int hypothesis) {
+  const int b = in.bins;
+  const int w = b + 1;
+  std::vector<std::int64_t> integral(idx(w * w), 0);
+  for (int r = 0; r < b; ++r) {
+    for (int c = 0; c < b; ++c) {
+      const std::int32_t slot = in.bin_slot[idx(r * b + c)];
+      const std::int64_t v =
+          slot < 0 ? 0 : in.slot_scores[idx(slot) * idx(in.hypotheses) + idx(hypothesis)];
+      integral[idx((r + 1) * w + c + 1)] = v + integral[idx(r * w + c + 1)] +
+                                           integral[idx((r + 1) * w + c)] -
+                                           integral[idx(r * w + c)];
+    }
+  }
+  return integral;
+}
+
+std::int64_t rect_sum(const std::vector<std::int64_t>& integral, int bins, int c0, int r0, int c1,
+                      int r1) {
+  const int w = bins + 1;
+  return integral[idx(r1 * w + c1)] + integral[idx(r0 * w + c0)] - integral[idx(r0 * w + c1)] -
+         integral[idx(r1 * w + c0)];
+}
+
+SearchResult reference_search_partition(const SearchInput& in) {
+  const int b = in.bins;
+  std::vector<std::vector<std::int64_t>> integrals;
+  for (int m = 0; m < in.hypotheses; ++m) integrals.push_back(integral_image(in, m));
+  SearchResult result;
+  for (int r = 0; r < b; ++r) {
+    for (int c = 0; c < b; ++c) {
+      const std::array<std::array<int, 4>, 4> rects{
+          {{0, 0, c, r}, {c, 0, b, r}, {0, r, c, b}, {c, r, b, b}}};
+      std::array<std::int64_t, 4> maxima{};
+      std::array<int, 4> arg{};
+      for (int s = 0; s < 4; ++s) {
+        const auto& q = rects[idx(s)];
+        for (int m = 0; m < in.hypotheses; ++m) {
+          const std::int64_t v = rect_sum(integrals[idx(m)], b, q[0], q[1], q[2], q[3]);
+          if (m == 0 || v > maxima[idx(s)]) {
+            maxima[idx(s)] = v;
+            arg[idx(s)] = m;
+          }
+        }
+      }
+      std::array<bool, 4> ground{};
+      if (consider_centre(in, maxima, c, r, result, ground)) {
+        for (int s = 0; s < 4; ++s) result.plane[idx(s)] = ground[idx(s)] ? arg[idx(s)] : -1;
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace vlpground::detail

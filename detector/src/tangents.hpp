@@ -1,0 +1,33 @@
+// Per-return tangent along its ring (paper Sec. III-A): numerical differentiation between
+// neighbours of the same row of the range image.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "method.hpp"
+
+namespace vlpground::detail {
+
+struct TangentParams {
+  int max_span_columns = 16;    // how far along the row a neighbour may be
+  float target_chord_m = 0.2f;  // walk outwards until a neighbour is this far away
+  float min_chord_m = 0.08f;    // shorter baselines are too noisy: no tangent
+  float jump_abs_m = 0.15f;     // range step refused as a discontinuity when larger than
+  float jump_rel = 0.03f;       //   jump_abs_m + jump_rel * range (per step along the row)
+};
+
+/// Unit tangents, one per cloud point. Returns without a trustworthy tangent get
+/// valid = 0 and t = (0, 0, kNoTangentZ), so that |n . t| exceeds sin(delta) for every
+/// near-horizontal plane and the eq. 3 test fails without a branch.
+struct Tangents {
+  std::vector<float> x, y, z;
+  std::vector<std::uint8_t> valid;
+};
+
+inline constexpr float kNoTangentZ = 4.0f;
+
+/// Requires the cloud in build_cloud order (layer, ring, column ascending).
+void compute_tangents(const Cloud& cloud, const TangentParams& params, Tangents& out);
+
+}  // namespace vlpground::detail
