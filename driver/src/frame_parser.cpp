@@ -2,6 +2,7 @@
 
 #include <arpa/inet.h>
 
+#include <algorithm>
 #include <cstring>
 #include <string>
 
@@ -42,9 +43,12 @@ FrameKind parse_udp(Bytes ip_payload, const IpAddress& source, UdpDatagram& out)
 FrameKind parse_ipv4(Bytes ip, UdpDatagram& out) {
   if (ip.size() < 20) return FrameKind::truncated;
   const std::size_t header_bytes = (ip[0] & 0x0Fu) * 4u;
-  const std::size_t total_bytes = load_be16(ip, 2);
+  std::size_t total_bytes = load_be16(ip, 2);
   if (header_bytes < 20 || total_bytes < header_bytes) return FrameKind::other;
-  if (total_bytes > ip.size()) return FrameKind::truncated;
+  if (header_bytes > ip.size()) return FrameKind::truncated;
+  // VLP-16 position packets carry a wrong IPv4 total length (1234, the data packets' value),
+  // so a length beyond the frame is clamped; the UDP length check still catches truncation.
+  total_bytes = std::min(total_bytes, ip.size());
   const std::uint16_t flags_offset = load_be16(ip, 6);
   const bool more_fragments = (flags_offset & 0x2000u) != 0;
   const bool nonzero_offset = (flags_offset & 0x1FFFu) != 0;
