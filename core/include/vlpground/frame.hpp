@@ -19,6 +19,20 @@ namespace vlpground {
 /// Default column capacity: a full rotation at 300 rpm (~3617 sequences) plus margin.
 inline constexpr int kDefaultFrameCapacity = 4096;
 
+/// Provenance of a column that no packet carried (lost or outside the sensor's FOV).
+inline constexpr std::uint64_t kNoPacketIndex = ~std::uint64_t{0};
+inline constexpr std::uint8_t kNoColumnInPacket = 0xFF;
+
+/// Why the assembler ended a frame.
+enum class FrameEnd : std::uint8_t {
+  cut,            // the next firing crossed the cut angle (the normal case)
+  end_of_input,   // flush(): end of file or caller request
+  silence,        // no packet for longer than the silence timeout
+  gap,            // a packet gap too large to fill with invalid columns
+  capacity,       // the frame ran out of columns
+  stream_change,  // return mode or model changed, or time jumped backwards
+};
+
 /// Per-cell arrays of one return layer.
 struct ReturnLayer {
   std::vector<float> range_m;         // 0 where there is no return
@@ -26,24 +40,26 @@ struct ReturnLayer {
   std::vector<float> azimuth_deg;     // precise azimuth of this firing, [0, 360)
   std::vector<float> time_offset_us;  // firing time relative to FrameMeta::first_time_ns
   std::vector<std::uint8_t> intensity;
-  std::vector<std::uint8_t> valid;    // 1 = a return with a distance, 0 = none / lost
+  std::vector<std::uint8_t> valid;  // 1 = a return with a distance, 0 = none / lost
 
   void resize(std::size_t cells);
 };
 
 /// Frame-level metadata filled by the rotation assembler.
 struct FrameMeta {
-  std::uint64_t sequence = 0;        // frame counter, starts at 0, +1 per emitted frame
-  std::int64_t first_time_ns = 0;    // absolute time of the first firing (ns since epoch)
-  std::int64_t last_time_ns = 0;     // absolute time of the last firing
-  double rpm = 0.0;                  // measured over this frame
+  std::uint64_t sequence = 0;      // frame counter, starts at 0, +1 per emitted frame
+  std::int64_t first_time_ns = 0;  // absolute time of the first firing (ns since epoch)
+  std::int64_t last_time_ns = 0;   // absolute time of the last firing
+  double rpm = 0.0;                // measured over this frame
   ReturnMode mode = ReturnMode::strongest;
   Model model = Model::vlp16;
-  std::uint32_t packets_used = 0;    // data packets that contributed firings
-  std::uint32_t packets_lost = 0;    // estimated from timestamp / azimuth gaps
-  std::uint32_t packets_skipped = 0; // malformed / duplicate / out-of-order packets
-  std::uint32_t columns_lost = 0;    // columns left invalid because their packet was lost
-  bool complete = false;             // a full rotation from cut to cut
+  std::uint32_t packets_used = 0;         // data packets that contributed firings
+  std::uint32_t packets_lost = 0;         // estimated from timestamp / azimuth gaps
+  std::uint32_t packets_skipped = 0;      // malformed / duplicate / out-of-order packets
+  std::uint32_t columns_lost = 0;         // columns left invalid because their packet was lost
+  bool complete = false;                  // a full rotation from cut to cut
+  std::uint32_t columns_outside_fov = 0;  // invalid columns where a FOV-restricted sensor is silent
+  FrameEnd end = FrameEnd::cut;
   // Receive time (host steady clock, ns) of the packet that completed the frame; the
   // pipeline measures latency from it.
   std::int64_t completed_receive_ns = 0;
@@ -70,6 +86,9 @@ class Frame {
 
   /// Appends one invalid column and returns its index, or -1 when the frame is full.
   int append_column();
+  /// Appends a column without clearing it (the caller writes every cell of it and its
+  /// per-column values); returns its index, or -1 when the frame is full.
+  int append_column_for_overwrite() { return columns_ < capacity_ ? columns_++ : -1; }
 
   // Per-cell data, [kStrongestLayer] and [kLastLayer] (dual only).
   ReturnLayer layer[2];
