@@ -12,6 +12,7 @@
 #include <span>
 #include <string>
 
+#include "vlpground/driver/position_packet.hpp"
 #include "vlpground/driver/sensor_model.hpp"
 #include "vlpground/types.hpp"
 
@@ -31,8 +32,8 @@ struct LaserReturn {
 
 /// One firing sequence: 16 lasers fired 2.304 us apart.
 struct FiringColumn {
-  std::int64_t time_ns = 0;                   // absolute time of laser 0's firing
-  std::array<float, kLasers> azimuth_deg{};   // per laser id, interpolated, [0, 360)
+  std::int64_t time_ns = 0;                  // absolute time of laser 0's firing
+  std::array<float, kLasers> azimuth_deg{};  // per laser id, interpolated, [0, 360)
   // [kStrongestLayer]: strongest (or the only) return; [kLastLayer]: last return (dual).
   std::array<std::array<LaserReturn, kLasers>, 2> returns{};
   std::array<std::uint8_t, kLasers> same_echo{};  // dual: both layers hold the same echo
@@ -40,9 +41,9 @@ struct FiringColumn {
 
 struct DecodedPacket {
   std::array<FiringColumn, kMaxColumnsPerPacket> columns{};
-  int column_count = 0;          // 24 single-return, 12 dual
+  int column_count = 0;  // 24 single-return, 12 dual
   ReturnMode mode = ReturnMode::strongest;
-  Model model = Model::vlp16;    // model used to decode
+  Model model = Model::vlp16;  // model used to decode
   std::uint8_t product_byte = 0;
   std::uint32_t stamp_us_past_hour = 0;  // raw packet timestamp
   std::int64_t time_ns = 0;              // absolute time of the first firing
@@ -55,10 +56,11 @@ struct DecodedPacket {
 
 enum class DecodeStatus : std::uint8_t {
   ok,
-  wrong_size,     // not 1206 bytes
-  bad_flag,       // a block without FF EE
-  bad_azimuth,    // azimuth >= 36000
-  unknown_mode,   // return-mode byte not 0x37/0x38/0x39
+  wrong_size,    // not 1206 bytes
+  bad_flag,      // a block without FF EE
+  bad_azimuth,   // azimuth >= 36000
+  unknown_mode,  // return-mode byte not 0x37/0x38/0x39
+  not_vlp16,     // packet spacing says another sensor family (e.g. HDL-32E, 553 us)
 };
 
 struct DecoderCounters {
@@ -68,6 +70,7 @@ struct DecoderCounters {
   std::uint64_t bad_azimuth = 0;
   std::uint64_t unknown_mode = 0;
   std::uint64_t product_mismatch = 0;  // product byte unknown or contradicting the timing
+  std::uint64_t not_vlp16 = 0;         // packets refused: timing of another sensor family
 };
 
 struct DecoderConfig {
@@ -89,25 +92,50 @@ class PacketDecoder {
   DecodeStatus decode(std::span<const std::uint8_t> bytes, std::int64_t receive_ns,
                       DecodedPacket& out);
 
-  /// Feeds the hour resolver with a parsed position packet's UTC time (see position_packet.hpp).
+  /// Hour of the packet stamps from GPS: `top_of_hour_ns` is the UTC top of the hour the
+  /// next data packet's stamp counts from; later hour wraps follow by continuity. Prefer
+  /// set_gps_time_reference(), which also survives a wrap between the two packets.
   void set_gps_hour_reference(std::int64_t top_of_hour_ns);
+
+  /// Takes the hour from a position packet when its $GPRMC is valid and PPS is locked (and
+  /// `use_gps_hour`); returns whether it was used. Until then (or without GPS) each packet
+  /// gets the hour of its receive time that puts it NEAREST to that receive time.
+  bool set_gps_time_reference(const PositionPacket& position);
 
   [[nodiscard]] const DecoderCounters& counters() const { return counters_; }
   [[nodiscard]] const SensorModel& sensor_model(Model m) const;
-  /// Human-readable warnings raised once each (e.g. product byte mismatch); empty if none.
+  /// The most recent of the human-readable warnings, each raised once (product byte
+  /// mismatch, not a VLP-16); empty if none.
   [[nodiscard]] const std::string& last_warning() const { return last_warning_; }
+  /// Number of distinct warnings raised so far: a caller sees a new warning when it grows.
+  [[nodiscard]] int warning_count() const { return warning_count_; }
 
  private:
+  enum class Family : std::uint8_t { unknown, vlp16, other };
+  void judge_timing(std::uint32_t stamp_us);
+  Model choose_model(std::uint8_t product_byte);
+  std::int64_t resolve_time_ns(std::uint32_t stamp_us, std::int64_t receive_ns);
+  void warn_once(bool& raised, std::string message);
+
   DecoderConfig config_;
   SensorModel vlp16_, hires_;
   DecoderCounters counters_;
   std::string last_warning_;
-  // Implementation state (hour resolver, previous packet, warn-once flags) is private.
-  std::int64_t previous_stamp_ns_ = -1;
-  double previous_rate_deg_per_ns_ = 0.0;
-  std::int64_t gps_top_of_hour_ns_ = -1;
-  std::int64_t last_resolved_ns_ = -1;
+  int warning_count_ = 0;
   bool warned_product_ = false;
+  bool warned_not_vlp16_ = false;
+  std::uint64_t packets_seen_ = 0;
+  // Sensor family by packet spacing: a run of 3 consistent gaps decides.
+  bool have_previous_stamp_ = false;
+  std::uint32_t previous_stamp_us_ = 0;
+  Family family_ = Family::unknown;
+  Family run_family_ = Family::unknown;
+  int run_length_ = 0;
+  // Hour resolution from GPS (absent until a reference is given).
+  bool gps_reference_ = false;
+  bool gps_anchor_pending_ = false;  // only the hour is known: next packet anchors
+  std::int64_t gps_top_of_hour_ns_ = 0;
+  std::int64_t gps_anchor_ns_ = 0;  // a GPS-clock time near the current packets
 };
 
 }  // namespace vlpground

@@ -3,6 +3,7 @@
 // Thread-safety: free functions on caller-owned values; no shared state.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -12,14 +13,14 @@ enum class PpsStatus : std::uint8_t { absent = 0, synchronizing = 1, locked = 2,
 
 /// Parsed $GPRMC sentence. Fields are meaningful only when `parsed` is true.
 struct Gprmc {
-  bool parsed = false;          // sentence present, well formed, checksum correct
+  bool parsed = false;  // sentence present, well formed, checksum correct
   bool checksum_ok = false;
-  bool valid = false;           // status 'A'
+  bool valid = false;  // status 'A'
   int hour = 0, minute = 0;
   double second = 0.0;
   int day = 0, month = 0, year = 0;  // full year (e.g. 2023)
-  double latitude_deg = 0.0;    // + north
-  double longitude_deg = 0.0;   // + east
+  double latitude_deg = 0.0;         // + north
+  double longitude_deg = 0.0;        // + east
   double speed_knots = 0.0;
   double course_deg = 0.0;
   /// UTC time of the fix as ns since the Unix epoch (only when parsed).
@@ -31,7 +32,7 @@ struct PositionPacket {
   std::uint32_t stamp_us_past_hour = 0;
   PpsStatus pps = PpsStatus::absent;
   Gprmc gprmc;
-  char sentence[128] = {};       // the raw NMEA text, NUL terminated
+  char sentence[128] = {};  // the raw NMEA text, NUL terminated
   std::int64_t receive_ns = 0;
 };
 

@@ -14,9 +14,10 @@
 namespace vlpground {
 
 struct LaserGeometry {
-  double elevation_deg = 0.0;        // vertical angle (vert_correction)
-  double azimuth_offset_deg = 0.0;   // rotational correction (rot_correction), usually 0
-  double vertical_offset_m = 0.0;    // added to z (vert_offset_correction)
+  double elevation_deg = 0.0;          // vertical angle (vert_correction)
+  double azimuth_offset_deg = 0.0;     // rotational correction (rot_correction), usually 0
+  double vertical_offset_m = 0.0;      // added to z (vert_offset_correction)
+  double distance_correction_m = 0.0;  // added to every nonzero range (dist_correction)
   // Precomputed from the above.
   double cos_elevation = 1.0;
   double sin_elevation = 0.0;
@@ -24,9 +25,10 @@ struct LaserGeometry {
 
 struct SensorModel {
   Model model = Model::vlp16;
-  std::array<LaserGeometry, kLasers> lasers{};   // indexed by laser id (firing order)
+  std::array<LaserGeometry, kLasers> lasers{};        // indexed by laser id (firing order)
   std::array<std::uint8_t, kLasers> ring_of_laser{};  // 0 = lowest elevation
   std::array<std::uint8_t, kLasers> laser_of_ring{};
+  double distance_resolution_m = 0.002;  // range unit of the packet (2 mm)
 
   /// The manual's angles and offsets for `model`.
   static SensorModel builtin(Model model);
