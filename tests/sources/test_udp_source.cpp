@@ -1,0 +1,244 @@
+// Live UDP source on loopback only: datagrams from test-local sockets, bounded waits (a
+// waiting next() returns as soon as the datagram is there), no sleeps.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <fstream>
+#include <latch>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include "capture_builder.hpp"
+#include "vlpground/driver/packet_source.hpp"
+
+using namespace vlpground;
+using vlpground::test::Bytes;
+using vlpground::test::pattern_payload;
+
+namespace {
+
+constexpr int kWaitMs = 5000;  // upper bound only; loopback datagrams are there at once
+
+sockaddr_in loopback_address(const char* ip, std::uint16_t port) {
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(port);
+  REQUIRE(inet_pton(AF_INET, ip, &address.sin_addr) == 1);
+  return address;
+}
+
+/// A UDP socket of the test, bound to `source_ip` (any 127.x.y.z works on Linux loopback).
+class Sender {
+ public:
+  explicit Sender(const char* source_ip = "127.0.0.1") : fd_(::socket(AF_INET, SOCK_DGRAM, 0)) {
+    REQUIRE(fd_ >= 0);
+    const sockaddr_in self = loopback_address(source_ip, 0);
+    REQUIRE(::bind(fd_, reinterpret_cast<const sockaddr*>(&self), sizeof self) == 0);
+  }
+  ~Sender() { ::close(fd_); }
+  Sender(const Sender&) = delete;
+  Sender& operator=(const Sender&) = delete;
+
+  void send(const Bytes& payload, std::uint16_t port) const {
+    const sockaddr_in to = loopback_address("127.0.0.1", port);
+    const auto sent = ::sendto(fd_, payload.data(), payload.size(), 0,
+                               reinterpret_cast<const sockaddr*>(&to), sizeof to);
+    REQUIRE(sent == static_cast<ssize_t>(payload.size()));
+  }
+
+ private:
+  int fd_;
+};
+
+/// A port that was free a moment ago (the kernel's choice for an ephemeral bind).
+std::uint16_t free_port() {
+  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in address = loopback_address("127.0.0.1", 0);
+  REQUIRE(::bind(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0);
+  socklen_t length = sizeof address;
+  REQUIRE(::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0);
+  ::close(fd);
+  return ntohs(address.sin_port);
+}
+
+UdpSourceConfig loopback_config() {
+  UdpSourceConfig config;
+  config.bind_address = "127.0.0.1";
+  config.data_port = free_port();
+  do {
+    config.position_port = free_port();
+  } while (config.position_port == config.data_port);
+  return config;
+}
+
+Bytes received_bytes(const PacketView& view) { return Bytes(view.bytes.begin(), view.bytes.end()); }
+
+}  // namespace
+
+TEST_CASE("udp: data and position datagrams arrive with their bytes, kind and stamps") {
+  const UdpSourceConfig config = loopback_config();
+  int granted = 0;
+  auto source = open_udp_source(config, &granted);
+  CHECK(source->is_live());
+  CHECK(source->progress() == -1.0);
+  CHECK(source->describe().find(std::to_string(config.data_port)) != std::string::npos);
+
+  WARN("receive buffer: asked " << config.receive_buffer_bytes << " bytes, kernel granted "
+                                << granted);
+  CHECK(granted > 0);
+  std::ifstream rmem_max_file("/proc/sys/net/core/rmem_max");
+  long rmem_max = 0;
+  if (rmem_max_file >> rmem_max) {  // Linux grants twice the request, capped at rmem_max
+    CHECK(granted >= 2 * std::min<long>(config.receive_buffer_bytes, rmem_max));
+  }
+
+  Sender sender;
+  sender.send(pattern_payload(1206, 1), config.data_port);
+  sender.send(pattern_payload(100, 0), config.data_port);  // wrong size
+  sender.send(pattern_payload(512, 2), config.position_port);
+  sender.send(pattern_payload(1206, 3), config.data_port);
+
+  PacketView view;
+  int data_seen = 0;
+  bool position_seen = false;
+  for (int i = 0; i < 3; ++i) {
+    REQUIRE(source->next(view, kWaitMs) == SourceStatus::packet);
+    CHECK(view.receive_ns > 0);
+    CHECK(view.steady_receive_ns > 0);
+    if (view.kind == PacketKind::position) {
+      CHECK(received_bytes(view) == pattern_payload(512, 2));
+      position_seen = true;
+    } else {
+      // Datagrams of one socket keep their order.
+      CHECK(received_bytes(view) == pattern_payload(1206, data_seen == 0 ? 1 : 3));
+      ++data_seen;
+    }
+  }
+  CHECK(data_seen == 2);
+  CHECK(position_seen);
+  CHECK(source->next(view, 0) == SourceStatus::timeout);
+  const SourceCounters& c = source->counters();
+  CHECK(c.records == 4);
+  CHECK(c.data_packets == 2);
+  CHECK(c.position_packets == 1);
+  CHECK(c.skipped_wrong_size == 1);
+}
+
+TEST_CASE("udp: next() times out when nothing arrives") {
+  auto source = open_udp_source(loopback_config());
+  PacketView view;
+  CHECK(source->next(view, 0) == SourceStatus::timeout);
+  CHECK(source->next(view, 5) == SourceStatus::timeout);
+  CHECK(source->counters().records == 0);
+}
+
+TEST_CASE("udp: request_stop() from another thread ends a blocked next()") {
+  auto source = open_udp_source(loopback_config());
+  std::latch about_to_wait(1);
+  std::thread stopper([&] {
+    about_to_wait.wait();
+    source->request_stop();
+  });
+  about_to_wait.count_down();
+  PacketView view;
+  const SourceStatus status = source->next(view, -1);  // would wait forever without the stop
+  stopper.join();
+  CHECK(status == SourceStatus::stopped);
+  CHECK(source->next(view, 0) == SourceStatus::stopped);
+}
+
+TEST_CASE("udp: the sensor address filter drops other senders") {
+  UdpSourceConfig config = loopback_config();
+  config.sensor_address = "127.0.0.1";
+  auto source = open_udp_source(config);
+  Sender stranger("127.0.0.2");
+  Sender sensor("127.0.0.1");
+  stranger.send(pattern_payload(1206, 7), config.data_port);
+  sensor.send(pattern_payload(1206, 8), config.data_port);
+  PacketView view;
+  REQUIRE(source->next(view, kWaitMs) == SourceStatus::packet);
+  CHECK(received_bytes(view) == pattern_payload(1206, 8));
+  CHECK(source->counters().skipped_address == 1);
+  CHECK(source->counters().records == 2);
+}
+
+TEST_CASE("udp: a port in use is a clear error, unless both ask for reuse") {
+  UdpSourceConfig config = loopback_config();
+  config.position_port = 0;  // position off: only the data socket
+  auto first = open_udp_source(config);
+  try {
+    open_udp_source(config);
+    FAIL("second bind succeeded");
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    INFO(message);
+    CHECK(message ==
+          "port " + std::to_string(config.data_port) + " on 127.0.0.1 is already in use");
+  }
+  first.reset();
+  config.reuse_address = true;
+  auto shared_a = open_udp_source(config);
+  CHECK_NOTHROW(open_udp_source(config));
+}
+
+TEST_CASE("udp: bad addresses are runtime errors naming the problem") {
+  UdpSourceConfig config = loopback_config();
+  auto expect_error = [&](const std::string& needle) {
+    try {
+      open_udp_source(config);
+      FAIL("no error");
+    } catch (const std::runtime_error& e) {
+      INFO(e.what());
+      CHECK(std::string(e.what()).find(needle) != std::string::npos);
+    }
+  };
+  SECTION("unparsable bind address") {
+    config.bind_address = "not-an-address";
+    CHECK_THROWS_AS(config.validate(), std::invalid_argument);
+    expect_error("not-an-address");
+  }
+  SECTION("address not on this host") {
+    config.bind_address = "192.0.2.55";  // TEST-NET-1
+    expect_error("not assigned");
+  }
+  SECTION("not a multicast group") {
+    config.multicast_group = "10.1.1.1";
+    expect_error("multicast");
+  }
+  SECTION("bad sensor address") {
+    config.sensor_address = "1.2.3";
+    expect_error("sensor_address");
+  }
+  SECTION("same port twice") {
+    config.position_port = config.data_port;
+    CHECK_THROWS_AS(config.validate(), std::invalid_argument);
+  }
+}
+
+TEST_CASE("udp: overflowing a small receive buffer is counted as kernel drops") {
+  UdpSourceConfig config = loopback_config();
+  config.position_port = 0;
+  config.receive_buffer_bytes = 1;  // the kernel raises it to its minimum (a few KiB)
+  int granted = 0;
+  auto source = open_udp_source(config, &granted);
+  INFO("granted " << granted);
+  Sender sender;
+  const int burst = 64;  // far more than the minimum buffer holds
+  for (int i = 0; i < burst; ++i) sender.send(pattern_payload(1206, 1), config.data_port);
+  PacketView view;
+  int received = 0;
+  while (source->next(view, 0) == SourceStatus::packet) ++received;
+  // The drop count travels with later datagrams: send a marker and read up to it.
+  sender.send(pattern_payload(1206, 2), config.data_port);
+  for (;;) {
+    REQUIRE(source->next(view, kWaitMs) == SourceStatus::packet);
+    ++received;
+    if (received_bytes(view) == pattern_payload(1206, 2)) break;
+  }
+  CHECK(received < burst);
+  CHECK(source->counters().kernel_drops == static_cast<std::uint64_t>(burst + 1 - received));
+}
