@@ -50,6 +50,12 @@ void DetectorConfig::validate() const {
   require(finite(below_distance_m) && below_distance_m > 0, "below_distance_m", "must be > 0");
   require(below_penalty >= 0 && below_penalty <= 100, "below_penalty", "must be in [0, 100]");
   require(finite(max_step_m) && max_step_m > 0, "max_step_m", "must be > 0");
+  require(finite(min_sensor_height_m) && finite(max_sensor_height_m) && min_sensor_height_m >= 0 &&
+              max_sensor_height_m > min_sensor_height_m,
+          "min_sensor_height_m/max_sensor_height_m", "need 0 <= min < max");
+  require(finite(label_height_m) && label_height_m > 0 && label_height_m <= 5, "label_height_m",
+          "must be in (0, 5] m");
+  require(finite(label_below_m) && label_below_m > 0, "label_below_m", "must be > 0");
   require(finite(label_growth_per_m) && label_growth_per_m >= 0 && label_growth_per_m < 1,
           "label_growth_per_m", "must be in [0, 1)");
 }

@@ -37,6 +37,8 @@ float signed_height(const Plane& p, float x, float y, float z) {
   return p.nx * x + p.ny * y + p.nz * z + p.d;
 }
 
+float plane_z(const Plane& p, float x, float y) { return -(p.nx * x + p.ny * y + p.d) / p.nz; }
+
 class TangentMethod final : public Method {
  public:
   explicit TangentMethod(const DetectorConfig& c) : cfg_(c) {
@@ -51,6 +53,8 @@ class TangentMethod final : public Method {
                : 0;
     origin_x_ = static_cast<float>(c.extrinsics.x_m);
     origin_y_ = static_cast<float>(c.extrinsics.y_m);
+    label_up_ = static_cast<float>(c.label_height_m);
+    label_down_ = static_cast<float>(c.label_below_m);
   }
 
   void detect(const Frame& frame, const Cloud& cloud, GroundResult& out) override {
@@ -242,6 +246,34 @@ class TangentMethod final : public Method {
     }
   }
 
+  [[nodiscard]] float sensor_height_over(const Plane& p) const {
+    return signed_height(p, origin_x_, origin_y_, static_cast<float>(cfg_.extrinsics.z_m));
+  }
+
+  // Plausibility (docs/detector.md): the anchor is the best-scoring segment whose plane lies
+  // a sensor height under the sensor; a segment whose plane disagrees with the anchor's at
+  // the partition centre (where they meet) by more than max_step_m has no ground.
+  void check_agreement(const SearchResult& f, GroundResult& out) const {
+    int anchor = -1;
+    for (int s = 0; s < 4; ++s) {
+      const GroundSegment& g = out.segments[idx(s)];
+      const double h = sensor_height_over(g.plane);
+      if (!g.has_ground || h < cfg_.min_sensor_height_m || h > cfg_.max_sensor_height_m) continue;
+      if (anchor < 0 || f.score[idx(s)] > f.score[idx(anchor)]) anchor = s;
+    }
+    if (anchor < 0) {
+      for (GroundSegment& g : out.segments) g.has_ground = false;
+      return;
+    }
+    const Plane& a = out.segments[idx(anchor)].plane;
+    const float za = plane_z(a, out.centre_x_m, out.centre_y_m);
+    for (GroundSegment& g : out.segments) {
+      if (!g.has_ground) continue;
+      if (std::abs(plane_z(g.plane, out.centre_x_m, out.centre_y_m) - za) > cfg_.max_step_m)
+        g.has_ground = false;
+    }
+  }
+
   // Segments without ground inherit the plane of the best-scoring neighbour with ground.
   static void inherit(const SearchResult& f, GroundResult& out, bool (&own)[4]) {
     for (int s = 0; s < 4; ++s) own[s] = out.segments[idx(s)].has_ground;
@@ -252,6 +284,7 @@ class TangentMethod final : public Method {
         if (own[o] && (donor < 0 || f.score[idx(o)] > f.score[idx(donor)])) donor = o;
       if (donor < 0) continue;
       out.segments[idx(s)].plane = out.segments[idx(donor)].plane;
+      out.segments[idx(s)].inherited = true;
     }
   }
 
@@ -262,6 +295,7 @@ class TangentMethod final : public Method {
       g.has_ground = f.found && f.plane[idx(s)] >= 0;
       if (g.has_ground) g.plane = planes_.at(idx(f.plane[idx(s)]));
     }
+    check_agreement(f, out);
     refine(cloud, out);
     inherit(f, out, own_);
   }
@@ -283,8 +317,8 @@ class TangentMethod final : public Method {
       const Plane& p = out.segments[idx(segment_of(out, cloud.x[i], cloud.y[i]))].plane;
       const float h = signed_height(p, cloud.x[i], cloud.y[i], cloud.z[i]);
       out.height_m[layer][cell] = h;
-      const float thr = eps_ + growth * std::max(0.f, cloud.range_xy[i] - radius_);
-      bool ground = std::abs(h) < thr;
+      const float grow = growth * std::max(0.f, cloud.range_xy[i] - radius_);
+      bool ground = h < label_up_ + grow && h > -label_down_ - grow;
       if (ground && tangents_.valid[i]) {
         const float dot = p.nx * tangents_.x[i] + p.ny * tangents_.y[i] + p.nz * tangents_.z[i];
         ground = std::abs(dot) < sin_label;
@@ -295,7 +329,8 @@ class TangentMethod final : public Method {
 
   DetectorConfig cfg_;
   int bins_ = 0, sub_ = 0;
-  float bin_ = 1, half_ = 0, radius_ = 0, eps_ = 0, sin_delta_ = 0, origin_x_ = 0, origin_y_ = 0;
+  float bin_ = 1, half_ = 0, label_up_ = 0, label_down_ = 0, radius_ = 0, eps_ = 0, sin_delta_ = 0,
+        origin_x_ = 0, origin_y_ = 0;
   Tangents tangents_;
   std::vector<int> point_bin_;
   std::vector<std::int32_t> bin_start_, fill_, sorted_, bin_slot_, slot_start_;

@@ -40,8 +40,12 @@ struct DetectorConfig {
   double max_tilt_deg = 12.0;        // hypotheses steeper than this are not ground
   double below_distance_m = 0.3;     // a return this far under a plane counts against it
   int below_penalty = 2;             // score = inliers - penalty * returns below (per bin)
-  double max_step_m = 0.4;           // adjacent segment planes must agree within this
-  double label_growth_per_m = 0.02;  // beyond fit_radius_m the threshold grows by this/m
+  double max_step_m = 0.4;           // segment planes must agree within this at the centre
+  double min_sensor_height_m = 0.5;  // the anchor plane must lie this far under the sensor
+  double max_sensor_height_m = 5.0;  //   and no farther
+  double label_height_m = 0.12;      // labels: ground up to this above the plane
+  double label_below_m = 0.5;        //   and down to this under it
+  double label_growth_per_m = 0.02;  // beyond fit_radius_m both grow by this per metre
 
   /// Throws std::invalid_argument naming the bad field and its valid range.
   void validate() const;
@@ -55,7 +59,8 @@ struct Plane {
 /// One of the four cross-partition segments (quadrants around the partition centre).
 struct GroundSegment {
   Plane plane;
-  bool has_ground = false;  // false: no plausible ground plane in this segment
+  bool has_ground = false;  // false: no plausible ground plane of its own in this segment
+  bool inherited = false;   // plane taken from a neighbouring segment (has_ground false)
   int inliers = 0;
   float x_min_m = 0, x_max_m = 0, y_min_m = 0, y_max_m = 0;  // vehicle frame
 };
