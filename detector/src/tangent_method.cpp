@@ -265,6 +265,11 @@ class TangentMethod final : public Method {
       for (GroundSegment& g : out.segments) g.has_ground = false;
       return;
     }
+    // The segment under the sensor must itself pass the sensor-height prior.
+    GroundSegment& own = out.segments[idx(segment_of(out, origin_x_, origin_y_))];
+    const double h_own = sensor_height_over(own.plane);
+    if (h_own < cfg_.min_sensor_height_m || h_own > cfg_.max_sensor_height_m)
+      own.has_ground = false;
     const Plane& a = out.segments[idx(anchor)].plane;
     const float za = plane_z(a, out.centre_x_m, out.centre_y_m);
     for (GroundSegment& g : out.segments) {
@@ -297,6 +302,7 @@ class TangentMethod final : public Method {
     }
     check_agreement(f, out);
     refine(cloud, out);
+    check_agreement(f, out);  // refinement may have tilted a plane out of agreement
     inherit(f, out, own_);
   }
 
