@@ -35,6 +35,13 @@ constexpr std::array<double, kChannelsPerBlock> kGapFraction = [] {
   return f;
 }();
 
+// Azimuth of a block in centidegrees, [0, 36000). Real sensors now and then send 36000
+// (seen in VLP-16 and HDL-32E captures): that is 0 degrees, not a malformed packet.
+int block_azimuth(const std::uint8_t* block) {
+  const int raw = load_le16(block + 2);
+  return raw == kCentidegPerTurn ? 0 : raw;
+}
+
 // Signed azimuth step from `from` to `to` in centidegrees, across the 0/360 wrap.
 int azimuth_step(int from, int to) {
   int d = to - from;
@@ -102,7 +109,7 @@ void fill_columns(const std::uint8_t* p, const SensorModel& model, bool dual, st
   const auto consts = laser_consts(model);
   const auto& trig = driver_detail::TrigTable::instance();
   std::array<int, kBlocksPerPacket> az{};
-  for (std::size_t b = 0; b < az.size(); ++b) az[b] = load_le16(p + b * kBlockBytes + 2);
+  for (std::size_t b = 0; b < az.size(); ++b) az[b] = block_azimuth(p + b * kBlockBytes);
   const int stride = dual ? 2 : 1;
   std::array<double, kBlocksPerPacket> gap{};
   azimuth_gaps(az, stride, gap);
@@ -149,7 +156,7 @@ DecodeStatus check_layout(std::span<const std::uint8_t> bytes) {
   for (std::size_t b = 0; b < static_cast<std::size_t>(kBlocksPerPacket); ++b) {
     const std::uint8_t* block = bytes.data() + b * kBlockBytes;
     if (block[0] != 0xFF || block[1] != 0xEE) return DecodeStatus::bad_flag;
-    if (load_le16(block + 2) >= kCentidegPerTurn) return DecodeStatus::bad_azimuth;
+    if (load_le16(block + 2) > kCentidegPerTurn) return DecodeStatus::bad_azimuth;
   }
   const std::uint8_t mode = bytes[kModeOffset];
   if (mode != kModeStrongest && mode != kModeLast && mode != kModeDual) {
@@ -337,7 +344,7 @@ DecodeStatus PacketDecoder::decode(std::span<const std::uint8_t> bytes, std::int
   out.model = choose_model(out.product_byte);
   out.stamp_us_past_hour = stamp_us;
   out.time_ns = resolve_time_ns(stamp_us, receive_ns);
-  out.first_azimuth_centideg = load_le16(p + 2);
+  out.first_azimuth_centideg = static_cast<std::uint16_t>(block_azimuth(p));
   out.column_count = dual ? kBlocksPerPacket : kMaxColumnsPerPacket;
   fill_columns(p, sensor_model(out.model), dual, out.time_ns, out);
   ++counters_.decoded;
