@@ -65,7 +65,8 @@ TEST_CASE("frame parser: IPv6 extension header chain is walked to UDP") {
   spec.extensions = {0, 60, 43, 60};
   const Bytes payload = vlpground::test::pattern_payload(33, 9);
   UdpDatagram d;
-  REQUIRE(parse(kLinkRaw, vlpground::test::udp_ipv6(payload, 8308, spec), d) == FrameKind::udp);
+  const Bytes ip = vlpground::test::udp_ipv6(payload, 8308, spec);  // outlives d.payload
+  REQUIRE(parse(kLinkRaw, ip, d) == FrameKind::udp);
   CHECK(d.source.version == 6);
   CHECK(d.source.bytes[0] == 0x20);
   CHECK(d.destination_port == 8308);
