@@ -16,8 +16,8 @@ namespace vlpground::sim {
 
 /// Wire-level content of one 1206-byte data packet.
 struct DataPacketFields {
-  std::array<std::uint16_t, 12> azimuth_centideg{};                 // per block, 0..35999
-  std::array<std::array<std::uint16_t, 32>, 12> distance_2mm{};     // per block, channel
+  std::array<std::uint16_t, 12> azimuth_centideg{};              // per block, 0..35999
+  std::array<std::array<std::uint16_t, 32>, 12> distance_2mm{};  // per block, channel
   std::array<std::array<std::uint8_t, 32>, 12> reflectivity{};
   std::uint32_t stamp_us_past_hour = 0;
   std::uint8_t return_mode = kModeStrongest;
@@ -32,7 +32,7 @@ void encode_position_packet(std::uint32_t stamp_us_past_hour, PpsStatus pps,
                             const std::string& nmea, std::span<std::uint8_t, 512> out);
 
 /// A "$GPRMC,...*hh" sentence (with checksum and CRLF) for the UTC time `utc_ns`.
-std::string make_gprmc(std::int64_t utc_ns, bool valid, double latitude_deg,
-                       double longitude_deg, double speed_knots, double course_deg);
+std::string make_gprmc(std::int64_t utc_ns, bool valid, double latitude_deg, double longitude_deg,
+                       double speed_knots, double course_deg);
 
 }  // namespace vlpground::sim
