@@ -12,7 +12,8 @@ void ReturnLayer::resize(std::size_t cells) {
 
 void Frame::reserve(int capacity_columns) {
   capacity_ = capacity_columns;
-  const auto cells = static_cast<std::size_t>(kLasers) * static_cast<std::size_t>(capacity_);
+  stride_ = (capacity_ + 15) / 16 * 16 + 16;  // one extra cache line of floats per row
+  const auto cells = static_cast<std::size_t>(kLasers) * static_cast<std::size_t>(stride_);
   for (auto& l : layer) l.resize(cells);
   same_echo.assign(cells, 0);
   column_azimuth_deg.assign(static_cast<std::size_t>(capacity_), 0.f);

@@ -38,6 +38,13 @@ std::array<std::uint8_t, kLasers> default_laser_of_ring() {
   return out;
 }
 
+// Largest azimuth step between consecutive firings judged as rotation (10 deg is ~30 times
+// the step at 1200 rpm), and the backward step tolerated as encoder jitter.
+constexpr double kMaxColumnStepDeg = 10.0;
+constexpr double kJitterDeg = 0.5;
+// A silent FOV sector filled in one push must leave room so the cut is crossed at most once.
+constexpr double kMaxFovGapDeg = 300.0;
+
 double rpm_from_rate(double deg_per_ns) { return deg_per_ns * 1e9 * 60.0 / 360.0; }
 
 }  // namespace
@@ -157,7 +164,7 @@ void RotationAssembler::handle_gap(const DecodedPacket& packet, std::int64_t del
   }
   // FOV sector: the same silent azimuths as the previous gap, within ~1.5 packets.
   const double tolerance = std::max(2.0, 1.5 * rate_deg_per_ns_ * static_cast<double>(period));
-  const bool fov = have_gap_ && advance < 360.0 &&
+  const bool fov = have_gap_ && advance < kMaxFovGapDeg &&
                    driver_detail::distance_deg(last_column_az_deg_, gap_start_deg_) <= tolerance &&
                    driver_detail::distance_deg(end_az, gap_end_deg_) <= tolerance;
   have_gap_ = true;
@@ -189,9 +196,15 @@ void RotationAssembler::add_column(const ColumnSource& source) {
   if (!have_column_) {
     begin_frame(source, false);
   } else {
-    const double advance = forward_deg(last_column_az_deg_, source.azimuth_deg);
-    // Eq. of the seam: the cut lies in (previous, this] going forward.
-    if (forward_deg(config_.cut_angle_deg, source.azimuth_deg) < advance) {
+    double advance = forward_deg(last_column_az_deg_, source.azimuth_deg);
+    if (advance > 360.0 - kJitterDeg) advance = 0.0;  // encoder jitter, not a turn
+    if (advance > kMaxColumnStepDeg) {
+      // An azimuth jump between consecutive firings (edited capture, corrupt block): keep
+      // the columns, but no cut is judged across it and the frame is not a clean rotation.
+      ++counters_.azimuth_jumps;
+      frame_at_cut_ = false;
+    } else if (forward_deg(config_.cut_angle_deg, source.azimuth_deg) < advance) {
+      // The seam: the cut lies in (previous, this] going forward.
       finish_frame(frame_at_cut_, FrameEnd::cut);
       begin_frame(source, true);
     } else {

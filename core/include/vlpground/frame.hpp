@@ -75,10 +75,12 @@ class Frame {
   void clear();
 
   [[nodiscard]] int capacity() const { return capacity_; }
-  [[nodiscard]] int stride() const { return capacity_; }
+  /// Row stride of the per-cell arrays: capacity padded so that rows do not sit a power of
+  /// two apart (16 rows 16 KiB apart alias in the caches and made filling 3x slower).
+  [[nodiscard]] int stride() const { return stride_; }
   [[nodiscard]] int columns() const { return columns_; }
   [[nodiscard]] std::size_t index(int ring, int col) const {
-    return static_cast<std::size_t>(ring) * static_cast<std::size_t>(capacity_) +
+    return static_cast<std::size_t>(ring) * static_cast<std::size_t>(stride_) +
            static_cast<std::size_t>(col);
   }
   /// Number of return layers in use: 2 in dual mode, else 1.
@@ -110,6 +112,7 @@ class Frame {
 
  private:
   int capacity_ = 0;
+  int stride_ = 0;
   int columns_ = 0;
 };
 

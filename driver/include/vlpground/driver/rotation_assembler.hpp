@@ -54,6 +54,7 @@ struct AssemblerCounters {
   std::uint64_t large_gaps = 0;          // frames ended by a gap too large to fill
   std::uint64_t capacity_overflows = 0;  // frames ended because they were full
   std::uint64_t stream_changes = 0;      // mode/model change or time jumping backwards
+  std::uint64_t azimuth_jumps = 0;       // firing-to-firing steps > 10 deg (frame incomplete)
   std::uint64_t frames_dropped = 0;      // ready frames overwritten because pop() was not called
 
   /// Every data packet given to push() or note_skipped_packet() is in exactly one of these.
