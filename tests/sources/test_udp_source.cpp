@@ -242,3 +242,69 @@ TEST_CASE("udp: overflowing a small receive buffer is counted as kernel drops") 
   CHECK(received < burst);
   CHECK(source->counters().kernel_drops == static_cast<std::uint64_t>(burst + 1 - received));
 }
+
+TEST_CASE("udp: IPv6 loopback with an IPv6 sensor filter") {
+  const int sender = ::socket(AF_INET6, SOCK_DGRAM, 0);
+  sockaddr_in6 address{};
+  address.sin6_family = AF_INET6;
+  address.sin6_addr = in6addr_loopback;
+  if (sender < 0 || ::bind(sender, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+    if (sender >= 0) ::close(sender);
+    WARN("skipped: no IPv6 loopback here");
+    return;
+  }
+  UdpSourceConfig config;
+  config.bind_address = "::1";
+  config.data_port = free_port();  // an IPv4 probe; the IPv6 port space is separate but alike
+  config.position_port = 0;
+  config.sensor_address = "::1";
+  std::unique_ptr<PacketSource> source;
+  try {
+    source = open_udp_source(config);
+  } catch (const std::runtime_error& e) {
+    ::close(sender);
+    WARN("skipped: " << e.what());
+    return;
+  }
+  address.sin6_port = htons(config.data_port);
+  const Bytes payload = pattern_payload(1206, 6);
+  REQUIRE(::sendto(sender, payload.data(), payload.size(), 0,
+                   reinterpret_cast<const sockaddr*>(&address), sizeof address) == 1206);
+  ::close(sender);
+  PacketView view;
+  REQUIRE(source->next(view, kWaitMs) == SourceStatus::packet);
+  CHECK(received_bytes(view) == payload);
+  CHECK(source->counters().skipped_address == 0);
+}
+
+TEST_CASE("udp: multicast group joined on the loopback interface") {
+  UdpSourceConfig config = loopback_config();
+  config.position_port = 0;
+  config.multicast_group = "239.255.76.67";
+  std::unique_ptr<PacketSource> source;
+  try {
+    source = open_udp_source(config);
+  } catch (const std::runtime_error& e) {
+    WARN("skipped: " << e.what());
+    return;
+  }
+  CHECK(source->describe().find("239.255.76.67") != std::string::npos);
+  const int sender = ::socket(AF_INET, SOCK_DGRAM, 0);
+  in_addr interface_address{};
+  REQUIRE(inet_pton(AF_INET, "127.0.0.1", &interface_address) == 1);
+  REQUIRE(::setsockopt(sender, IPPROTO_IP, IP_MULTICAST_IF, &interface_address,
+                       sizeof interface_address) == 0);
+  const sockaddr_in group = loopback_address("239.255.76.67", config.data_port);
+  const Bytes payload = pattern_payload(1206, 9);
+  const auto sent = ::sendto(sender, payload.data(), payload.size(), 0,
+                             reinterpret_cast<const sockaddr*>(&group), sizeof group);
+  ::close(sender);
+  if (sent != static_cast<ssize_t>(payload.size())) {
+    WARN("skipped: no multicast route on loopback here");
+    return;
+  }
+  PacketView view;
+  REQUIRE(source->next(view, kWaitMs) == SourceStatus::packet);
+  CHECK(view.kind == PacketKind::data);
+  CHECK(received_bytes(view) == payload);
+}

@@ -18,7 +18,7 @@ enum class PacketKind : std::uint8_t { data, position };
 struct PacketView {
   std::span<const std::uint8_t> bytes;
   PacketKind kind = PacketKind::data;
-  std::int64_t receive_ns = 0;  // capture timestamp (pcap) or kernel/host receive time (UDP)
+  std::int64_t receive_ns = 0;         // capture timestamp (pcap) or kernel/host receive time (UDP)
   std::int64_t steady_receive_ns = 0;  // host steady clock at receipt (for latency)
 };
 
@@ -30,10 +30,10 @@ enum class SourceStatus : std::uint8_t {
 };
 
 struct SourceCounters {
-  std::uint64_t records = 0;          // pcap records / datagrams seen
+  std::uint64_t records = 0;  // pcap records / datagrams seen
   std::uint64_t data_packets = 0;
   std::uint64_t position_packets = 0;
-  std::uint64_t skipped_other = 0;    // not UDP to our ports, other traffic
+  std::uint64_t skipped_other = 0;  // not UDP to our ports, other traffic
   std::uint64_t skipped_wrong_size = 0;
   std::uint64_t skipped_fragment = 0;
   std::uint64_t skipped_address = 0;  // filtered by sensor address
@@ -47,7 +47,10 @@ struct SourceCounters {
 class PacketSource {
  public:
   virtual ~PacketSource() = default;
-  /// Waits up to `timeout_ms` for the next data or position packet. Never allocates.
+  /// Waits up to `timeout_ms` for the next data or position packet (0: do not wait;
+  /// negative: wait without limit). Datagrams that are not ours are counted and skipped.
+  /// Never allocates. A paced replay returns `timeout` while its next packet is not yet due
+  /// (the packet is kept for the next call).
   virtual SourceStatus next(PacketView& out, int timeout_ms) = 0;
   /// Makes a blocked or future next() return `stopped`. Callable from any thread.
   virtual void request_stop() = 0;
@@ -60,33 +63,50 @@ class PacketSource {
   [[nodiscard]] virtual std::string describe() const = 0;
 };
 
+/// Replay of a pcap or pcapng file (link types: Ethernet with any VLAN/QinQ tags, Linux SLL
+/// and SLL2, raw IPv4/IPv6, BSD loopback). A packet is a UDP datagram to `data_port` of 1206
+/// bytes or to `position_port` of 512 bytes; anything else is counted in SourceCounters.
+/// `receive_ns` is the record's capture stamp (ns since epoch, nanosecond precision kept).
 struct PcapSourceConfig {
   std::string path;
   std::uint16_t data_port = 2368;
   std::uint16_t position_port = 8308;
-  std::string sensor_address;   // empty: any; else only packets from this IPv4/IPv6 address
-  double rate = 0.0;            // 0 = as fast as possible; 1.0 = real time by capture stamps
+  std::string sensor_address;  // empty: any; else only packets from this IPv4/IPv6 address
+  double rate = 0.0;           // 0 = as fast as possible; 1.0 = real time by capture stamps
+  /// Replays the file again at its end. Each pass shifts receive_ns by the capture's span
+  /// (first to last record) plus its mean record spacing (at least 1 us), so stamps keep
+  /// increasing. A pass without any packet ends the replay (no endless spinning).
   bool loop = false;
+  /// Throws std::invalid_argument (empty path, data_port 0, rate < 0, bad sensor_address).
   void validate() const;
 };
 
+/// Live reception. Each port gets its own socket with SO_TIMESTAMPNS (receive_ns = kernel
+/// receive time, ns since epoch) and SO_RXQ_OVFL (SourceCounters::kernel_drops). With a
+/// multicast group the sockets bind to the group address and join it on the interface of
+/// `bind_address` (IPv4; IPv6 joins on the default interface).
 struct UdpSourceConfig {
   std::string bind_address = "0.0.0.0";
   std::uint16_t data_port = 2368;
-  std::uint16_t position_port = 8308;  // 0 = do not listen for position packets
-  std::string multicast_group;         // empty: none
-  std::string sensor_address;          // empty: any
-  bool reuse_address = false;          // SO_REUSEADDR + SO_REUSEPORT
-  int receive_buffer_bytes = 4 * 1024 * 1024;
+  std::uint16_t position_port = 8308;          // 0 = do not listen for position packets
+  std::string multicast_group;                 // empty: none
+  std::string sensor_address;                  // empty: any
+  bool reuse_address = false;                  // SO_REUSEADDR + SO_REUSEPORT
+  int receive_buffer_bytes = 4 * 1024 * 1024;  // SO_RCVBUFFORCE if permitted, else SO_RCVBUF
+  /// Throws std::invalid_argument (unparsable or non-multicast addresses, data_port 0,
+  /// equal ports, non-positive buffer).
   void validate() const;
 };
 
 /// Opens a capture. Throws std::runtime_error with a one-line reason when the file is
-/// missing, unreadable or not a capture.
+/// missing, unreadable, not a capture or of an unsupported link type;
+/// std::invalid_argument when validate() fails.
 std::unique_ptr<PacketSource> open_pcap_source(const PcapSourceConfig& config);
 
-/// Binds the sockets. Throws std::runtime_error when the port is in use or the address bad.
-/// `granted_buffer_bytes` (optional) receives the kernel's actual receive buffer size.
+/// Binds the sockets. Throws std::runtime_error when the port is in use ("port 2368 on
+/// 0.0.0.0 is already in use"), the address is bad or not on this host, or validate() fails.
+/// `granted_buffer_bytes` (optional) receives the kernel's actual receive buffer size (Linux
+/// reports twice the request, capped at 2 x net.core.rmem_max without CAP_NET_ADMIN).
 std::unique_ptr<PacketSource> open_udp_source(const UdpSourceConfig& config,
                                               int* granted_buffer_bytes = nullptr);
 
