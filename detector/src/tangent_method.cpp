@@ -2,6 +2,7 @@
 // disjoint cross partition found by Algorithm 1 over integral images, plus the
 // plausibility additions documented in docs/detector.md.
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -32,6 +33,11 @@ constexpr float kDegToRad = static_cast<float>(M_PI / 180.0);
 // Returns higher than this above their bin's lowest return cannot be inliers of (or lie
 // under) a plausible plane of that bin; they are left out of scoring.
 constexpr float kCandidateBand_m = 1.0f;
+// A segment plane needs eq. 3 inliers from at least this many rings.
+constexpr int kMinGroundRings = 3;
+// Near a partition line (within this many bins) a return may also be labelled by the
+// plane across the line: the cut is quantised to bins, the terrain change is not.
+constexpr float kSoftBoundaryBins = 2.0f;
 
 float signed_height(const Plane& p, float x, float y, float z) {
   return p.nx * x + p.ny * y + p.nz * z + p.d;
@@ -222,23 +228,36 @@ class TangentMethod final : public Method {
 
   // Least-squares refinement of each segment plane on its full-resolution eq. 3 inliers.
   void refine(const Cloud& cloud, GroundResult& out) {
+    refine_pass(cloud, out, eps_, true);
+    // Second pass in the label band: obstacle bottoms within epsilon no longer pull on it.
+    refine_pass(cloud, out, std::min(eps_, label_up_), false);
+  }
+
+  void refine_pass(const Cloud& cloud, GroundResult& out, float band, bool check_rings) {
     PlaneFit fits[4];
+    std::uint32_t rings[4] = {0, 0, 0, 0};  // rings contributing inliers, one bit each
     for (Index i = 0; i < cloud.size(); ++i) {
       if (point_bin_[i] < 0 || !tangents_.valid[i]) continue;
       const int s = segment_of(out, cloud.x[i], cloud.y[i]);
       const Plane& p = out.segments[idx(s)].plane;
       if (!out.segments[idx(s)].has_ground) continue;
-      if (std::abs(signed_height(p, cloud.x[i], cloud.y[i], cloud.z[i])) >= eps_) continue;
-      if (std::abs(p.nx * tangents_.x[i] + p.ny * tangents_.y[i] + p.nz * tangents_.z[i]) >=
-          sin_delta_)
+      if (!eq3_inlier(p, cloud.x[i], cloud.y[i], cloud.z[i], tangents_.x[i], tangents_.y[i],
+                      tangents_.z[i], band, sin_delta_))
         continue;
       fits[s].add(cloud.x[i], cloud.y[i], cloud.z[i]);
+      rings[s] |= 1u << (cloud.ring[i] & 31u);
     }
     const float min_nz = std::cos(static_cast<float>(cfg_.max_tilt_deg) * kDegToRad);
     out.total_inliers = 0;
     for (int s = 0; s < 4; ++s) {
       GroundSegment& g = out.segments[idx(s)];
       if (!g.has_ground) continue;
+      // Ground is a surface seen by several rings; a single ring's line on a wall or a car
+      // side fits a plane just as well, so such a segment has no ground of its own.
+      if (check_rings && std::popcount(rings[s]) < kMinGroundRings) {
+        g.has_ground = false;
+        continue;
+      }
       g.inliers = fits[s].count();
       out.total_inliers += g.inliers;
       Plane refined;
@@ -306,11 +325,23 @@ class TangentMethod final : public Method {
     inherit(f, out, own_);
   }
 
+  // Label rule for one plane: height window (grown beyond the fit radius) and, when the
+  // return has a tangent, the eq. 3 angle test with twice delta.
+  [[nodiscard]] bool ground_by(const Plane& p, Index i, const Cloud& cloud, float h, float grow,
+                               float sin_label) const {
+    (void)cloud;
+    if (!(h < label_up_ + grow && h > -label_down_ - grow)) return false;
+    if (!tangents_.valid[i]) return true;
+    const float dot = p.nx * tangents_.x[i] + p.ny * tangents_.y[i] + p.nz * tangents_.z[i];
+    return std::abs(dot) < sin_label;
+  }
+
   void label(const Frame& frame, const Cloud& cloud, GroundResult& out) const {
     bool any = false;
     for (bool o : own_) any = any || o;
     const float sin_label = std::sin(2.0f * static_cast<float>(cfg_.tangent_angle_deg) * kDegToRad);
     const float growth = static_cast<float>(cfg_.label_growth_per_m);
+    const float soft_m = kSoftBoundaryBins * bin_;
     (void)frame;
     for (Index i = 0; i < cloud.size(); ++i) {
       const Index cell = cloud.cell[i];
@@ -320,15 +351,23 @@ class TangentMethod final : public Method {
         lab = static_cast<std::uint8_t>(GroundLabel::obstacle);
         continue;
       }
-      const Plane& p = out.segments[idx(segment_of(out, cloud.x[i], cloud.y[i]))].plane;
-      const float h = signed_height(p, cloud.x[i], cloud.y[i], cloud.z[i]);
-      out.height_m[layer][cell] = h;
+      const float x = cloud.x[i], y = cloud.y[i];
+      const int own = segment_of(out, x, y);
       const float grow = growth * std::max(0.f, cloud.range_xy[i] - radius_);
-      bool ground = h < label_up_ + grow && h > -label_down_ - grow;
-      if (ground && tangents_.valid[i]) {
-        const float dot = p.nx * tangents_.x[i] + p.ny * tangents_.y[i] + p.nz * tangents_.z[i];
-        ground = std::abs(dot) < sin_label;
+      const bool near_x = std::abs(x - out.centre_x_m) < soft_m;
+      const bool near_y = std::abs(y - out.centre_y_m) < soft_m;
+      float h = signed_height(out.segments[idx(own)].plane, x, y, cloud.z[i]);
+      bool ground = ground_by(out.segments[idx(own)].plane, i, cloud, h, grow, sin_label);
+      for (int flip : {1, 2, 3}) {
+        if (ground || (flip & 1 && !near_x) || (flip & 2 && !near_y)) continue;
+        const Plane& q = out.segments[idx(own ^ flip)].plane;
+        float hq = signed_height(q, x, y, cloud.z[i]);
+        if (ground_by(q, i, cloud, hq, grow, sin_label)) {
+          ground = true;
+          h = hq;
+        }
       }
+      out.height_m[layer][cell] = h;
       lab = static_cast<std::uint8_t>(ground ? GroundLabel::ground : GroundLabel::obstacle);
     }
   }

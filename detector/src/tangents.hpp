@@ -27,6 +27,15 @@ struct Tangents {
 
 inline constexpr float kNoTangentZ = 4.0f;
 
+/// Eq. 3 of the paper: |n.x + d| < eps and |pi/2 - arccos(n.t)| < delta. For a unit t,
+/// |pi/2 - arccos(n.t)| = |arcsin(n.t)|, so the angle test is |n.t| < sin(delta).
+inline bool eq3_inlier(const Plane& p, float x, float y, float z, float tx, float ty, float tz,
+                       float eps, float sin_delta) {
+  const float dist = p.nx * x + p.ny * y + p.nz * z + p.d;
+  const float dot = p.nx * tx + p.ny * ty + p.nz * tz;
+  return (dist < 0 ? -dist : dist) < eps && (dot < 0 ? -dot : dot) < sin_delta;
+}
+
 /// Requires the cloud in build_cloud order (layer, ring, column ascending).
 void compute_tangents(const Cloud& cloud, const TangentParams& params, Tangents& out);
 

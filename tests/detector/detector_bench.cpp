@@ -1,0 +1,96 @@
+// Detector speed over the frames of the sim captures: frames are loaded once with
+// CaptureReader, then GroundDetector::detect is timed per frame. Counters report the
+// per-stage times (ms per frame, averaged) and the returns per frame.
+#include <benchmark/benchmark.h>
+
+#include <string>
+#include <vector>
+
+#include "test_data.hpp"
+#include "vlpground/detector/ground_detector.hpp"
+#include "vlpground/driver/capture_reader.hpp"
+
+using namespace vlpground;
+
+namespace {
+
+std::vector<Frame> load_frames(const std::string& stem) {
+  std::vector<Frame> frames;
+  const auto path = test::shared_file("sim", stem + ".pcap");
+  if (!path) return frames;
+  CaptureReader reader(open_pcap_source({.path = path->string()}));
+  Frame f;
+  while (reader.next(f) == ReadStatus::frame) {
+    if (f.meta.complete) frames.push_back(f);
+  }
+  return frames;
+}
+
+void bm_detect(benchmark::State& state, const std::string& stem, const std::string& method) {
+  static std::vector<std::pair<std::string, std::vector<Frame>>> cache;
+  const std::vector<Frame>* frames = nullptr;
+  for (const auto& [name, fs] : cache)
+    if (name == stem) frames = &fs;
+  if (!frames) frames = &cache.emplace_back(stem, load_frames(stem)).second;
+  if (frames->empty()) {
+    state.SkipWithError("capture not found (set VLPGROUND_SHARED_DIR)");
+    return;
+  }
+  DetectorConfig cfg;
+  cfg.method = method;
+  GroundDetector det(cfg);
+  GroundResult result;
+  det.detect(frames->front(), result);  // warm-up: sizes every workspace
+  StageTimings sum;
+  double returns = 0;
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const Frame& f = (*frames)[k++ % frames->size()];
+    det.detect(f, result);
+    benchmark::DoNotOptimize(result.ground_returns);
+    const StageTimings& t = result.timings;
+    sum.cloud_ms += t.cloud_ms;
+    sum.tangents_ms += t.tangents_ms;
+    sum.hypotheses_ms += t.hypotheses_ms;
+    sum.inliers_ms += t.inliers_ms;
+    sum.search_ms += t.search_ms;
+    sum.labelling_ms += t.labelling_ms;
+    returns += static_cast<double>(result.ground_returns + result.obstacle_returns);
+  }
+  const auto n = static_cast<double>(state.iterations());
+  state.counters["cloud_ms"] = sum.cloud_ms / n;
+  state.counters["tangents_ms"] = sum.tangents_ms / n;
+  state.counters["hypotheses_ms"] = sum.hypotheses_ms / n;
+  state.counters["inliers_ms"] = sum.inliers_ms / n;
+  state.counters["search_ms"] = sum.search_ms / n;
+  state.counters["labelling_ms"] = sum.labelling_ms / n;
+  state.counters["returns"] = returns / n;
+}
+
+void register_all() {
+  for (const char* stem : {"flat_strongest", "urban_strongest", "slope_strongest", "jam_strongest",
+                           "fences_strongest", "flat_dual", "jam_dual", "flat_20hz"}) {
+    for (const char* method : {"tangent", "ransac", "lpr"}) {
+      benchmark::RegisterBenchmark((std::string("detect/") + method + "/" + stem).c_str(),
+                                   [s = std::string(stem), m = std::string(method)](
+                                       benchmark::State& st) { bm_detect(st, s, m); })
+          ->Unit(benchmark::kMillisecond)
+          ->ComputeStatistics("median", [](const std::vector<double>& v) {
+            std::vector<double> c = v;
+            std::nth_element(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(c.size() / 2),
+                             c.end());
+            return c[c.size() / 2];
+          });
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  register_all();
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
