@@ -1,6 +1,8 @@
 #include "vlpground/driver/packet_decoder.hpp"
 
+#include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <stdexcept>
 
 #include "le_load.hpp"
@@ -67,9 +69,31 @@ void azimuth_gaps(const std::array<int, kBlocksPerPacket>& az, int stride,
   gap[static_cast<std::size_t>(kBlocksPerPacket - stride)] = static_cast<double>(total) / steps;
 }
 
+// cos/sin of the block azimuth; a laser's azimuth is that plus a small interpolated delta.
+struct BlockTrig {
+  driver_detail::CosSin cs;
+  int centideg;
+  bool small_gap;  // the delta is small enough for the series below
+};
+constexpr int kSmallGapCentideg = 500;
+constexpr double kRadPerCentideg = std::numbers::pi / 18000.0;
+
+// cos/sin of (block azimuth + delta): angle addition with a short series for the small delta
+// (|delta| <= 5 degrees: truncation error below 1e-12); the table for anything larger.
+inline driver_detail::CosSin rotate(const BlockTrig& block, double delta_centideg,
+                                    const driver_detail::TrigTable& trig) {
+  if (!block.small_gap)
+    return trig.at(driver_detail::wrap_centideg(block.centideg + delta_centideg));
+  const double d = delta_centideg * kRadPerCentideg;
+  const double d2 = d * d;
+  const double cd = 1.0 - d2 * (0.5 - d2 * (1.0 / 24.0 - d2 / 720.0));
+  const double sd = d * (1.0 - d2 * (1.0 / 6.0 - d2 / 120.0));
+  return {block.cs.cos * cd - block.cs.sin * sd, block.cs.sin * cd + block.cs.cos * sd};
+}
+
 // Per-laser constants of the hot loop (all from SensorModel).
 struct LaserConsts {
-  double cos_w, sin_w, offset_m, rot_centideg, resolution_m, correction_m;
+  double cos_w, sin_w, offset_m, cos_rot, sin_rot, resolution_m, correction_m;
 };
 
 // Fills laser `k` of `column` for one return of `layer` from a 3-byte record.
@@ -95,9 +119,9 @@ std::array<LaserConsts, kLasers> laser_consts(const SensorModel& m) {
   std::array<LaserConsts, kLasers> c{};
   for (std::size_t k = 0; k < c.size(); ++k) {
     const auto& l = m.lasers[k];
-    c[k] = {l.cos_elevation,         l.sin_elevation,
-            l.vertical_offset_m,     l.azimuth_offset_deg * 100.0,
-            m.distance_resolution_m, l.distance_correction_m};
+    c[k] = {l.cos_elevation,        l.sin_elevation,      l.vertical_offset_m,
+            l.cos_azimuth_offset,   l.sin_azimuth_offset, m.distance_resolution_m,
+            l.distance_correction_m};
   }
   return c;
 }
@@ -107,6 +131,8 @@ std::array<LaserConsts, kLasers> laser_consts(const SensorModel& m) {
 void fill_columns(const std::uint8_t* p, const SensorModel& model, bool dual, std::int64_t time0_ns,
                   DecodedPacket& out) {
   const auto consts = laser_consts(model);
+  bool rotated = false;
+  for (const auto& c : consts) rotated = rotated || c.sin_rot != 0.0;
   const auto& trig = driver_detail::TrigTable::instance();
   std::array<int, kBlocksPerPacket> az{};
   for (std::size_t b = 0; b < az.size(); ++b) az[b] = block_azimuth(p + b * kBlockBytes);
@@ -121,6 +147,7 @@ void fill_columns(const std::uint8_t* p, const SensorModel& model, bool dual, st
     const std::uint8_t* primary = p + (dual ? ub + 1 : ub) * kBlockBytes + 4;
     const std::uint8_t* last = dual ? p + ub * kBlockBytes + 4 : nullptr;
     const int first_sequence = dual ? b : 2 * b;
+    const BlockTrig block_trig{trig.at(az[ub]), az[ub], std::abs(gap[ub]) <= kSmallGapCentideg};
     for (int half = 0; half < 2; ++half) {
       const int sequence = first_sequence + half;
       FiringColumn& col = out.columns[static_cast<std::size_t>(sequence)];
@@ -128,9 +155,12 @@ void fill_columns(const std::uint8_t* p, const SensorModel& model, bool dual, st
       for (std::size_t k = 0; k < static_cast<std::size_t>(kLasers); ++k) {
         const std::size_t ch = static_cast<std::size_t>(half) * 16 + k;
         const auto& c = consts[k];
-        const double azimuth = driver_detail::wrap_centideg(az[ub] + gap[ub] * kGapFraction[ch]);
-        col.azimuth_deg[k] = static_cast<float>(azimuth / 100.0);
-        const auto cs = trig.at(driver_detail::wrap_centideg(azimuth + c.rot_centideg));
+        const double delta = gap[ub] * kGapFraction[ch];
+        col.azimuth_deg[k] =
+            static_cast<float>(driver_detail::wrap_centideg(az[ub] + delta) / 100.0);
+        auto cs = rotate(block_trig, delta, trig);
+        if (rotated)
+          cs = {cs.cos * c.cos_rot - cs.sin * c.sin_rot, cs.sin * c.cos_rot + cs.cos * c.sin_rot};
         const std::size_t at = ch * kRecordBytes;
         fill_return(primary + at, c, cs, col.returns[kStrongestLayer][k]);
         if (last != nullptr) {

@@ -41,6 +41,9 @@ void SensorModel::finalize() {
     const double rad = laser.elevation_deg * std::numbers::pi / 180.0;
     laser.cos_elevation = std::cos(rad);
     laser.sin_elevation = std::sin(rad);
+    const double rot = laser.azimuth_offset_deg * std::numbers::pi / 180.0;
+    laser.cos_azimuth_offset = std::cos(rot);
+    laser.sin_azimuth_offset = std::sin(rot);
   }
   std::array<std::uint8_t, kLasers> order{};
   std::iota(order.begin(), order.end(), std::uint8_t{0});

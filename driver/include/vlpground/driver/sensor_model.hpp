@@ -21,6 +21,8 @@ struct LaserGeometry {
   // Precomputed from the above.
   double cos_elevation = 1.0;
   double sin_elevation = 0.0;
+  double cos_azimuth_offset = 1.0;
+  double sin_azimuth_offset = 0.0;
 };
 
 struct SensorModel {
