@@ -18,7 +18,9 @@ std::vector<Frame> load_frames(const std::string& stem) {
   std::vector<Frame> frames;
   const auto path = test::shared_file("sim", stem + ".pcap");
   if (!path) return frames;
-  CaptureReader reader(open_pcap_source({.path = path->string()}));
+  PcapSourceConfig source;
+  source.path = path->string();
+  CaptureReader reader(open_pcap_source(source));
   Frame f;
   while (reader.next(f) == ReadStatus::frame) {
     if (f.meta.complete) frames.push_back(f);
