@@ -2,6 +2,7 @@
 #include "vlpground/sim/capture_writer.hpp"
 
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -113,7 +114,11 @@ std::string describe_json(const Simulator& sim, std::uint64_t packets) {
   j["scene"] = std::string(to_string(c.scene));
   j["seed"] = c.seed;
   j["frames"] = c.frames;
-  j["rpm"] = c.rpm;
+  if (c.rpm == std::floor(c.rpm)) {
+    j["rpm"] = static_cast<int>(c.rpm);  // as the shared captures write it
+  } else {
+    j["rpm"] = c.rpm;
+  }
   j["mode"] = std::string(to_string(c.mode));
   j["model"] = std::string(to_string(c.model));
   j["sensor_height_m"] = sim.sensor_height_m();

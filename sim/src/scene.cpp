@@ -12,6 +12,7 @@ namespace {
 constexpr double kEps = 1e-6;
 constexpr double kMinMarchStep_m = 0.05;
 constexpr double kMaxMarchStep_m = 4.0;
+constexpr double kMarchStepPerMetre = 0.01;
 constexpr int kBisectionSteps = 24;
 
 // Intersects [lo, hi] with the interval where lo_b <= origin + t * d <= hi_b.
@@ -117,7 +118,9 @@ std::optional<double> Scene::cast_terrain(const Vec3& origin, const Vec3& dir, d
   while (t < max_t) {
     if (closing_rate <= 0.0 && gap > step_margin) return std::nullopt;  // pulls away
     double step = closing_rate > 0.0 ? (gap - step_margin) / closing_rate : kMaxMarchStep_m;
-    step = std::clamp(step, kMinMarchStep_m, kMaxMarchStep_m);
+    // The minimum step grows with distance: terrain features are metres wide, and the
+    // bisection below restores full precision once a crossing is bracketed.
+    step = std::clamp(step, kMinMarchStep_m + kMarchStepPerMetre * t, kMaxMarchStep_m);
     const double t_next = std::min(t + step, max_t);
     const double gap_next = gap_at(t_next);
     if (gap_next <= 0.0) {
