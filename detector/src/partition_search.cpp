@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <limits>
 
 namespace vlpground::detail {
 
@@ -44,31 +45,35 @@ bool consider_centre(const SearchInput& in, const std::array<std::int64_t, 4>& m
 
 }  // namespace
 
-SearchResult search_partition(const SearchInput& in, std::vector<std::int32_t>& scratch) {
+namespace {
+
+// Acc: int16 when every partial sum fits (twice the lanes per vector), else int32.
+template <class Acc>
+SearchResult search_streaming(const SearchInput& in, std::vector<Acc>& scratch) {
   const int b = in.bins;
   const Index m_count = idx(in.hypotheses);
   // Layout: column totals I(c+1,B)-I(c,B) [B x M], column prefixes over rows < r [B x M],
   // I(B,B), I(B,r), I(c,r), I(c,B) [M each].
   scratch.assign(idx(2 * b + 4) * m_count, 0);
-  std::int32_t* col_total = scratch.data();
-  std::int32_t* col_prefix = col_total + idx(b) * m_count;
-  std::int32_t* total = col_prefix + idx(b) * m_count;
-  std::int32_t* row_total = total + m_count;
-  std::int32_t* acc = row_total + m_count;
-  std::int32_t* acc_bottom = acc + m_count;
+  Acc* col_total = scratch.data();
+  Acc* col_prefix = col_total + idx(b) * m_count;
+  Acc* total = col_prefix + idx(b) * m_count;
+  Acc* row_total = total + m_count;
+  Acc* acc = row_total + m_count;
+  Acc* acc_bottom = acc + m_count;
 
   for (int r = 0; r < b; ++r) {
     for (int c = 0; c < b; ++c) {
       const std::int32_t slot = in.bin_slot[idx(r * b + c)];
       if (slot < 0) continue;
       const std::int32_t* s = in.slot_scores + idx(slot) * m_count;
-      std::int32_t* t = col_total + idx(c) * m_count;
-      for (Index m = 0; m < m_count; ++m) t[m] += s[m];
+      Acc* t = col_total + idx(c) * m_count;
+      for (Index m = 0; m < m_count; ++m) t[m] = Acc(t[m] + s[m]);
     }
   }
   for (int c = 0; c < b; ++c) {
-    const std::int32_t* t = col_total + idx(c) * m_count;
-    for (Index m = 0; m < m_count; ++m) total[m] += t[m];
+    const Acc* t = col_total + idx(c) * m_count;
+    for (Index m = 0; m < m_count; ++m) total[m] = Acc(total[m] + t[m]);
   }
 
   SearchResult result;
@@ -76,33 +81,33 @@ SearchResult search_partition(const SearchInput& in, std::vector<std::int32_t>& 
   for (int r = 0; r < b; ++r) {
     std::fill_n(row_total, m_count, 0);
     for (int c = 0; c < b; ++c) {
-      const std::int32_t* p = col_prefix + idx(c) * m_count;
-      for (Index m = 0; m < m_count; ++m) row_total[m] += p[m];
+      const Acc* p = col_prefix + idx(c) * m_count;
+      for (Index m = 0; m < m_count; ++m) row_total[m] = Acc(row_total[m] + p[m]);
     }
     std::fill_n(acc, m_count, 0);
     std::fill_n(acc_bottom, m_count, 0);
     for (int c = 0; c < b; ++c) {
       // Segment sums from I(c,r), I(B,r), I(c,B), I(B,B); maxima as one vectorisable pass.
-      std::int32_t m0 = acc[0], m1 = row_total[0] - acc[0], m2 = acc_bottom[0] - acc[0];
-      std::int32_t m3 = total[0] - row_total[0] - acc_bottom[0] + acc[0];
+      Acc m0 = acc[0], m1 = Acc(row_total[0] - acc[0]), m2 = Acc(acc_bottom[0] - acc[0]);
+      Acc m3 = Acc(total[0] - row_total[0] - acc_bottom[0] + acc[0]);
       for (Index m = 1; m < m_count; ++m) {
-        const std::int32_t i = acc[m], ib = row_total[m], ic = acc_bottom[m];
+        const Acc i = acc[m], ib = row_total[m], ic = acc_bottom[m];
         m0 = std::max(m0, i);
-        m1 = std::max(m1, ib - i);
-        m2 = std::max(m2, ic - i);
-        m3 = std::max(m3, total[m] - ib - ic + i);
+        m1 = std::max(m1, Acc(ib - i));
+        m2 = std::max(m2, Acc(ic - i));
+        m3 = std::max(m3, Acc(total[m] - ib - ic + i));
       }
       if (consider_centre(in, {m0, m1, m2, m3}, c, r, result, ground)) {
         for (int s = 0; s < 4; ++s) {
           result.plane[idx(s)] = -1;
           if (!ground[idx(s)]) continue;
-          const std::int64_t want = std::array<std::int32_t, 4>{m0, m1, m2, m3}[idx(s)];
+          const std::int64_t want = std::array<Acc, 4>{m0, m1, m2, m3}[idx(s)];
           for (Index m = 0; m < m_count; ++m) {
-            const std::int32_t i = acc[m], ib = row_total[m], ic = acc_bottom[m];
-            const std::int32_t v = s == 0   ? i
-                                   : s == 1 ? ib - i
-                                   : s == 2 ? ic - i
-                                            : total[m] - ib - ic + i;
+            const Acc i = acc[m], ib = row_total[m], ic = acc_bottom[m];
+            const Acc v = s == 0   ? i
+                          : s == 1 ? ib - i
+                          : s == 2 ? ic - i
+                                   : Acc(total[m] - ib - ic + i);
             if (v == want) {
               result.plane[idx(s)] = static_cast<int>(m);
               break;
@@ -110,22 +115,30 @@ SearchResult search_partition(const SearchInput& in, std::vector<std::int32_t>& 
           }
         }
       }
-      const std::int32_t* p = col_prefix + idx(c) * m_count;
-      const std::int32_t* t = col_total + idx(c) * m_count;
+      const Acc* p = col_prefix + idx(c) * m_count;
+      const Acc* t = col_total + idx(c) * m_count;
       for (Index m = 0; m < m_count; ++m) {
-        acc[m] += p[m];
-        acc_bottom[m] += t[m];
+        acc[m] = Acc(acc[m] + p[m]);
+        acc_bottom[m] = Acc(acc_bottom[m] + t[m]);
       }
     }
     for (int c = 0; c < b; ++c) {
       const std::int32_t slot = in.bin_slot[idx(r * b + c)];
       if (slot < 0) continue;
       const std::int32_t* s = in.slot_scores + idx(slot) * m_count;
-      std::int32_t* p = col_prefix + idx(c) * m_count;
-      for (Index m = 0; m < m_count; ++m) p[m] += s[m];
+      Acc* p = col_prefix + idx(c) * m_count;
+      for (Index m = 0; m < m_count; ++m) p[m] = Acc(p[m] + s[m]);
     }
   }
   return result;
+}
+
+}  // namespace
+
+SearchResult search_partition(const SearchInput& in, SearchScratch& scratch) {
+  if (in.score_bound > 0 && in.score_bound <= std::numeric_limits<std::int16_t>::max())
+    return search_streaming(in, scratch.narrow);
+  return search_streaming(in, scratch.wide);
 }
 
 std::vector<std::int64_t> integral_image(const SearchInput& in, int hypothesis) {

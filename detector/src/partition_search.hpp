@@ -24,6 +24,14 @@ struct SearchInput {
   const std::int32_t* slot_scores = nullptr;  // per occupied bin: M scores
   int min_segment_score = 0;                  // T
   bool allow_empty_segments = true;
+  // Bound on |sum of scores| over any set of bins (0 = unknown). At most 32767 lets the
+  // search run on 16-bit lanes.
+  std::int64_t score_bound = 0;
+};
+
+struct SearchScratch {
+  std::vector<std::int16_t> narrow;
+  std::vector<std::int32_t> wide;
 };
 
 struct SearchResult {
@@ -36,7 +44,7 @@ struct SearchResult {
 
 /// Streaming search: column prefix sums are carried row by row, so the integral image of
 /// every hypothesis is evaluated without materialising B x B x M values. Reuses `scratch`.
-SearchResult search_partition(const SearchInput& in, std::vector<std::int32_t>& scratch);
+SearchResult search_partition(const SearchInput& in, SearchScratch& scratch);
 
 /// Plain reference of the same search: one full integral image per hypothesis and the
 /// four-corner rectangle sums. Slow; used by tests to check search_partition.

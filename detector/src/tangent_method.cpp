@@ -86,6 +86,7 @@ class TangentMethod final : public Method {
     in.slot_scores = scores_.data();
     in.min_segment_score = cfg_.min_segment_inliers;
     in.allow_empty_segments = true;
+    in.score_bound = static_cast<std::int64_t>(cx_.size()) * std::max(1, cfg_.below_penalty);
     SearchResult found;
     if (in.hypotheses > 0) found = search_partition(in, search_scratch_);
     out.timings.search_ms = ms_since(t);
@@ -384,7 +385,8 @@ class TangentMethod final : public Method {
   std::uint32_t stamp_value_ = 0;
   LowPoints low_;
   PlaneSet planes_;
-  std::vector<std::int32_t> scores_, search_scratch_;
+  std::vector<std::int32_t> scores_;
+  SearchScratch search_scratch_;
   bool own_[4] = {false, false, false, false};
 };
 

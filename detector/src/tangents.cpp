@@ -10,9 +10,9 @@ bool same_row(const Cloud& c, std::size_t a, std::size_t b) {
   return c.layer[a] == c.layer[b] && c.ring[a] == c.ring[b];
 }
 
-float chord(const Cloud& c, std::size_t a, std::size_t b) {
+float chord_sq(const Cloud& c, std::size_t a, std::size_t b) {
   const float dx = c.x[a] - c.x[b], dy = c.y[a] - c.y[b], dz = c.z[a] - c.z[b];
-  return std::sqrt(dx * dx + dy * dy + dz * dz);
+  return dx * dx + dy * dy + dz * dz;
 }
 
 bool continuous(const Cloud& c, const TangentParams& p, std::size_t a, std::size_t b) {
@@ -25,6 +25,7 @@ bool continuous(const Cloud& c, const TangentParams& p, std::size_t a, std::size
 std::size_t walk(const Cloud& c, const TangentParams& p, std::size_t i, int step) {
   const std::size_t n = c.size();
   std::size_t best = i, prev = i;
+  const float target_sq = p.target_chord_m * p.target_chord_m;
   for (std::size_t k = 1;; ++k) {
     if (step < 0 && k > i) break;
     const std::size_t j = step > 0 ? i + k : i - k;
@@ -32,7 +33,7 @@ std::size_t walk(const Cloud& c, const TangentParams& p, std::size_t i, int step
     const int span = std::abs(int{c.column[j]} - int{c.column[i]});
     if (span > p.max_span_columns || !continuous(c, p, prev, j)) break;
     best = prev = j;
-    if (chord(c, i, j) >= p.target_chord_m) break;
+    if (chord_sq(c, i, j) >= target_sq) break;
   }
   return best;
 }

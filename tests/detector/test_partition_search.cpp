@@ -64,7 +64,7 @@ TEST_CASE("integral image rectangle sums equal brute-force sums", "[detector][in
 }
 
 TEST_CASE("optimised partition search equals the reference Algorithm 1", "[detector][search]") {
-  std::vector<std::int32_t> scratch;
+  SearchScratch scratch;
   int checked = 0;
   for (std::uint64_t seed = 1; seed <= 12; ++seed) {
     const int bins = 3 + static_cast<int>(seed % 6);
@@ -72,22 +72,27 @@ TEST_CASE("optimised partition search equals the reference Algorithm 1", "[detec
     const Grid g = random_grid(bins, m, seed);
     for (bool allow_empty : {true, false}) {
       for (int t : {0, 5, 40}) {
-        const SearchInput in = g.input(t, allow_empty);
-        const SearchResult fast = search_partition(in, scratch);
+        SearchInput in = g.input(t, allow_empty);
         const SearchResult ref = reference_search_partition(in);
-        INFO("seed " << seed << " bins " << bins << " m " << m << " T " << t);
-        REQUIRE(fast.found == ref.found);
-        if (!ref.found) continue;
-        ++checked;
-        CHECK(fast.centre_col == ref.centre_col);
-        CHECK(fast.centre_row == ref.centre_row);
-        CHECK(fast.plane == ref.plane);
-        CHECK(fast.score == ref.score);
-        CHECK(fast.total == ref.total);
+        // 0: unknown bound, 32-bit lanes; else a true bound, 16-bit lanes.
+        for (std::int64_t bound : {std::int64_t{0}, std::int64_t{12} * bins * bins}) {
+          in.score_bound = bound;
+          const SearchResult fast = search_partition(in, scratch);
+          INFO("seed " << seed << " bins " << bins << " m " << m << " T " << t << " bound "
+                       << bound);
+          REQUIRE(fast.found == ref.found);
+          if (!ref.found) continue;
+          ++checked;
+          CHECK(fast.centre_col == ref.centre_col);
+          CHECK(fast.centre_row == ref.centre_row);
+          CHECK(fast.plane == ref.plane);
+          CHECK(fast.score == ref.score);
+          CHECK(fast.total == ref.total);
+        }
       }
     }
   }
-  CHECK(checked > 30);
+  CHECK(checked > 60);
 }
 
 TEST_CASE("search finds a planted two-plane partition", "[detector][search]") {
@@ -100,7 +105,7 @@ TEST_CASE("search finds a planted two-plane partition", "[detector][search]") {
       g.slot.push_back(r * bins + c);
       g.scores.insert(g.scores.end(), {c < 4 ? 5 : 0, c < 4 ? 0 : 5, 1});
     }
-  std::vector<std::int32_t> scratch;
+  SearchScratch scratch;
   const SearchResult r = search_partition(g.input(1, true), scratch);
   REQUIRE(r.found);
   CHECK(r.centre_col == 4);
