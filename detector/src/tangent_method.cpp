@@ -65,7 +65,10 @@ class TangentMethod final : public Method {
 
   void detect(const Frame& frame, const Cloud& cloud, GroundResult& out) override {
     auto t = Clock::now();
-    compute_tangents(cloud, TangentParams{}, tangents_);
+    TangentParams tp;
+    if (frame.columns() > 0)  // a rotation spans the frame's columns (about 2 pi)
+      tp.column_angle_rad = 2.f * static_cast<float>(M_PI) / static_cast<float>(frame.columns());
+    compute_tangents(cloud, tp, tangents_);
     out.timings.tangents_ms = ms_since(t);
     bin_points(cloud);
     select_candidates(cloud);

@@ -1,5 +1,6 @@
 #include "tangents.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace vlpground::detail {
@@ -23,6 +24,21 @@ bool continuous(const Cloud& c, const TangentParams& p, std::size_t a, std::size
 // from the cloud) but never across a range discontinuity; stops at the first neighbour at
 // least target_chord_m away. Returns i when there is no usable neighbour.
 std::size_t walk(const Cloud& c, const TangentParams& p, std::size_t i, int step) {
+  // Fast path: jump straight to the neighbour expected at the target chord (from the range
+  // and the column angle) when it is in the same row and continuous with i.
+  if (p.column_angle_rad > 0) {
+    const float spacing = c.range_xy[i] * p.column_angle_rad;
+    const auto k = static_cast<std::size_t>(std::clamp(
+        std::ceil(p.target_chord_m / std::max(spacing, 1e-4f)), 1.f,
+        static_cast<float>(p.max_span_columns)));
+    if (step > 0 ? i + k < c.size() : k <= i) {
+      const std::size_t j = step > 0 ? i + k : i - k;
+      if (same_row(c, i, j) &&
+          std::abs(int{c.column[j]} - int{c.column[i]}) <= p.max_span_columns &&
+          continuous(c, p, i, j))
+        return j;
+    }
+  }
   const std::size_t n = c.size();
   std::size_t best = i, prev = i;
   const float target_sq = p.target_chord_m * p.target_chord_m;
