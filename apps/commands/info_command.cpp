@@ -1,12 +1,194 @@
+// `vlpground info FILE.pcap [--json]`: what is in a capture.
 #include <cstdio>
+#include <nlohmann/json.hpp>
+#include <string>
 
+#include "cli/capture_probe.hpp"
+#include "cli/options.hpp"
 #include "commands/commands.hpp"
+#include "vlpground/driver/capture_reader.hpp"
 
 namespace vlpground::cli {
+namespace {
 
-int run_info(int /*argc*/, char** /*argv*/) {
-  std::fprintf(stderr, "vlpground info: not implemented yet\n");
-  return 2;
+struct CaptureFacts {
+  std::uint64_t frames = 0, complete_frames = 0;
+  double rpm_sum = 0;
+  std::int64_t first_ns = 0, last_ns = 0;
+  std::string mode;
+  std::string decoded_model;
+  CaptureCounters counters;
+  std::uint64_t position_parsed = 0;
+  PpsStatus pps = PpsStatus::absent;
+  bool gprmc_seen = false, gprmc_valid = false;
+  std::string gprmc_time;
+  std::vector<std::string> warnings;
+};
+
+CaptureFacts read_frames(const PcapSourceConfig& pcap) {
+  CaptureFacts facts;
+  CaptureReader reader(open_pcap_source(pcap));
+  reader.on_position([&](const PositionPacket& p) {
+    ++facts.position_parsed;
+    facts.pps = p.pps;
+    if (p.gprmc.parsed) {
+      facts.gprmc_seen = true;
+      facts.gprmc_valid = p.gprmc.valid;
+      char t[64];
+      std::snprintf(t, sizeof t, "%04d-%02d-%02d %02d:%02d:%06.3f UTC", p.gprmc.year, p.gprmc.month,
+                    p.gprmc.day, p.gprmc.hour, p.gprmc.minute, p.gprmc.second);
+      facts.gprmc_time = t;
+    }
+  });
+  reader.on_warning([&](const std::string& w) { facts.warnings.push_back(w); });
+  Frame frame;
+  while (reader.next(frame) == ReadStatus::frame) {
+    if (facts.frames == 0) facts.first_ns = frame.meta.first_time_ns;
+    facts.last_ns = frame.meta.last_time_ns;
+    ++facts.frames;
+    if (frame.meta.complete) {
+      ++facts.complete_frames;
+      facts.rpm_sum += frame.meta.rpm;
+    }
+    facts.mode = std::string(to_string(frame.meta.mode));
+    facts.decoded_model = std::string(to_string(frame.meta.model));
+  }
+  facts.counters = reader.counters();
+  return facts;
+}
+
+const char* pps_name(PpsStatus s) {
+  switch (s) {
+    case PpsStatus::absent:
+      return "absent";
+    case PpsStatus::synchronizing:
+      return "synchronizing";
+    case PpsStatus::locked:
+      return "locked";
+    case PpsStatus::error:
+      return "error";
+  }
+  return "?";
+}
+
+const char* mode_name(std::uint8_t byte) {
+  switch (byte) {
+    case kModeStrongest:
+      return "strongest";
+    case kModeLast:
+      return "last";
+    case kModeDual:
+      return "dual";
+    default:
+      return "unknown";
+  }
+}
+
+}  // namespace
+
+int run_info(int argc, char** argv) {
+  const std::vector<OptionSpec> specs = {
+      {"--json", false, "print JSON instead of a table"},
+      {"--port", true, "N  UDP data port in the capture (default 2368)"},
+      {"--position-port", true, "N  UDP position port in the capture (default 8308)"},
+      {"--help", false, "show this help"},
+  };
+  try {
+    const Args args(argc, argv, specs);
+    if (args.has("--help")) {
+      std::printf(
+          "usage: vlpground info FILE.pcap [options]\nDescribes a capture: model, return "
+          "mode, rpm, rotations, duration, packet counts, GPS/PPS.\noptions:\n%s",
+          describe_options(specs).c_str());
+      return 0;
+    }
+    if (args.positionals().size() != 1) throw UsageError("expects exactly one FILE.pcap");
+    PcapSourceConfig pcap;
+    pcap.path = args.positionals()[0];
+    pcap.data_port = static_cast<std::uint16_t>(args.integer("--port", 2368, 1, 65535));
+    pcap.position_port =
+        static_cast<std::uint16_t>(args.integer("--position-port", 8308, 1, 65535));
+    const CaptureProbe probe = probe_capture(pcap, 0);
+    if (!probe.error.empty()) {
+      std::fprintf(stderr, "vlpground info: %s\n", probe.error.c_str());
+      return 1;
+    }
+    const bool vlp16 = probe.is_vlp16();
+    CaptureFacts facts;
+    if (vlp16) facts = read_frames(pcap);
+    const auto& src = vlp16 ? facts.counters.source : probe.counters;
+    const double rpm =
+        facts.complete_frames ? facts.rpm_sum / static_cast<double>(facts.complete_frames) : 0.0;
+    const double duration_s = static_cast<double>(facts.last_ns - facts.first_ns) * 1e-9;
+    const bool product_agrees =
+        (probe.main_product() == kProductVlp16 || probe.main_product() == kProductHiRes) &&
+        probe.timing_is_vlp16();
+    char product[96];
+    std::snprintf(product, sizeof product, "0x%02x (%s the packet timing)", probe.main_product(),
+                  product_agrees ? "agrees with" : "does NOT agree with");
+    const std::string model =
+        vlp16 ? probe.family() : probe.family() + " - not a VLP-16 (" + probe.verdict() + ")";
+
+    if (args.has("--json")) {
+      nlohmann::json j = {
+          {"file", pcap.path},
+          {"model", probe.family()},
+          {"is_vlp16", vlp16},
+          {"product_byte", probe.main_product()},
+          {"product_byte_agrees_with_timing", product_agrees},
+          {"packet_spacing_us", probe.median_spacing_us},
+          {"return_mode", mode_name(probe.main_mode())},
+          {"rpm", rpm},
+          {"rotations", facts.complete_frames},
+          {"frames", facts.frames},
+          {"duration_s", duration_s},
+          {"packets",
+           {{"data", src.data_packets},
+            {"position", src.position_packets},
+            {"skipped", src.skipped()},
+            {"truncated", src.truncated},
+            {"lost", facts.counters.assembler.packets_lost}}},
+          {"gps",
+           {{"pps", pps_name(facts.pps)},
+            {"gprmc", facts.gprmc_seen ? (facts.gprmc_valid ? "valid" : "void") : "absent"},
+            {"time", facts.gprmc_time}}},
+          {"warnings", facts.warnings},
+      };
+      std::printf("%s\n", j.dump(2).c_str());
+    } else {
+      const auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
+      std::printf("%-14s %s\n", "file", pcap.path.c_str());
+      std::printf("%-14s %s\n", "model", model.c_str());
+      std::printf("%-14s %s\n", "product byte", product);
+      std::printf("%-14s %.1f us\n", "packet spacing", probe.median_spacing_us);
+      std::printf("%-14s %s\n", "return mode", mode_name(probe.main_mode()));
+      if (vlp16) {
+        std::printf("%-14s %.1f\n", "rpm", rpm);
+        std::printf("%-14s %llu complete (%llu frames with partial ones)\n", "rotations",
+                    u(facts.complete_frames), u(facts.frames));
+        std::printf("%-14s %.3f s\n", "duration", duration_s);
+      }
+      std::printf("%-14s %llu data, %llu position, %llu skipped, %llu lost\n", "packets",
+                  u(src.data_packets), u(src.position_packets), u(src.skipped()),
+                  u(facts.counters.assembler.packets_lost));
+      std::printf("%-14s PPS %s, GPRMC %s%s%s\n", "gps", pps_name(facts.pps),
+                  facts.gprmc_seen ? (facts.gprmc_valid ? "valid" : "void") : "absent",
+                  facts.gprmc_time.empty() ? "" : ", ", facts.gprmc_time.c_str());
+      for (const auto& w : facts.warnings) std::printf("%-14s %s\n", "warning", w.c_str());
+    }
+    if (!vlp16) {
+      std::fprintf(stderr, "vlpground info: %s: not a VLP-16 capture (%s)\n", pcap.path.c_str(),
+                   probe.verdict().c_str());
+      return 1;
+    }
+    return 0;
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "vlpground info: %s (see --help)\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "vlpground info: %s\n", e.what());
+    return 1;
+  }
 }
 
 }  // namespace vlpground::cli

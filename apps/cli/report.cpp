@@ -1,0 +1,135 @@
+#include "cli/report.hpp"
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+namespace vlpground::cli {
+namespace {
+
+double share(std::uint64_t part, std::uint64_t whole) {
+  return whole == 0 ? 0.0 : static_cast<double>(part) / static_cast<double>(whole);
+}
+
+std::uint64_t count_returns(const Frame& f) {
+  std::uint64_t n = 0;
+  for (int l = 0; l < f.layers(); ++l) {
+    for (int ring = 0; ring < kLasers; ++ring) {
+      for (int c = 0; c < f.columns(); ++c) n += f.layer[l].valid[f.index(ring, c)];
+    }
+  }
+  return n;
+}
+
+double frames_per_s(const PipelineStats& s) {
+  return s.elapsed_s > 0 ? static_cast<double>(s.frames_delivered) / s.elapsed_s : 0.0;
+}
+
+}  // namespace
+
+void print_frame_line(std::FILE* to, const LabelledFrame& f) {
+  const std::uint64_t returns = count_returns(f.frame);
+  std::fprintf(to, "frame %llu: %d columns, %llu returns, %.1f%% ground, %.1f ms detect%s\n",
+               static_cast<unsigned long long>(f.frame.meta.sequence), f.frame.columns(),
+               static_cast<unsigned long long>(returns),
+               100.0 * share(f.ground.ground_returns, returns), f.timings.detect_ms,
+               f.frame.meta.complete ? "" : " (partial rotation)");
+  std::fflush(to);
+}
+
+void print_progress(std::FILE* to, const PipelineStats& s) {
+  constexpr int kBar = 30;
+  const double p = std::clamp(s.progress, 0.0, 1.0);
+  const int filled = s.progress < 0 ? 0 : static_cast<int>(p * kBar);
+  std::string bar(static_cast<std::size_t>(filled), '#');
+  bar.resize(kBar, s.progress < 0 ? '?' : '.');
+  if (s.progress >= 0) {
+    std::fprintf(to, "\r[%s] %5.1f%%  %llu frames  %.1f frames/s ", bar.c_str(), 100.0 * p,
+                 static_cast<unsigned long long>(s.frames_delivered), frames_per_s(s));
+  } else {
+    std::fprintf(to, "\r%llu frames  %.1f frames/s  %llu dropped ",
+                 static_cast<unsigned long long>(s.frames_delivered), frames_per_s(s),
+                 static_cast<unsigned long long>(s.frames_dropped));
+  }
+  std::fflush(to);
+}
+
+void print_summary_table(std::FILE* to, const PipelineStats& s, const SummaryContext& c) {
+  const auto& src = s.capture.source;
+  const auto& dec = s.capture.decoder;
+  const auto& as = s.capture.assembler;
+  const auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
+  std::fprintf(to, "summary (%s)\n", c.command.c_str());
+  std::fprintf(to, "  %-12s %s\n", "input", c.input.c_str());
+  std::fprintf(to, "  %-12s %s\n", "method", c.method.c_str());
+  std::fprintf(to, "  %-12s %llu delivered, %llu incomplete, %llu dropped, %llu callback errors\n",
+               "frames", u(s.frames_delivered), u(s.incomplete_frames), u(s.frames_dropped),
+               u(s.callback_exceptions));
+  std::fprintf(to, "  %-12s %llu data, %llu position, %llu skipped, %llu lost, %llu malformed\n",
+               "packets", u(src.data_packets), u(src.position_packets), u(src.skipped()),
+               u(as.packets_lost),
+               u(dec.wrong_size + dec.bad_flag + dec.bad_azimuth + dec.unknown_mode));
+  if (s.live) std::fprintf(to, "  %-12s %llu\n", "kernel drops", u(src.kernel_drops));
+  std::fprintf(to, "  %-12s %llu, %.1f%% ground\n", "returns", u(s.returns),
+               100.0 * share(s.ground_returns, s.returns));
+  std::fprintf(to, "  %-12s p50 %.2f ms, p99 %.2f ms, max %.2f ms\n", "detect", s.detect.p50_ms,
+               s.detect.p99_ms, s.detect.max_ms);
+  std::fprintf(to, "  %-12s p50 %.2f ms, p99 %.2f ms, max %.2f ms%s\n", "latency", s.latency.p50_ms,
+               s.latency.p99_ms, s.latency.max_ms,
+               s.live ? (s.latency.p99_ms < 10.0 ? " (goal p99 < 10 ms: met)"
+                                                 : " (goal p99 < 10 ms: MISSED)")
+                      : " (replay: includes queueing)");
+  std::fprintf(to, "  %-12s %.1f frames/s over %.2f s\n", "throughput", frames_per_s(s),
+               s.elapsed_s);
+  if (!c.gps.empty()) std::fprintf(to, "  %-12s %s\n", "gps", c.gps.c_str());
+  if (c.warnings > 0) std::fprintf(to, "  %-12s %llu (see log)\n", "warnings", u(c.warnings));
+  std::fflush(to);
+}
+
+std::string summary_json(const PipelineStats& s, const SummaryContext& c) {
+  const auto& src = s.capture.source;
+  const auto& dec = s.capture.decoder;
+  const auto& as = s.capture.assembler;
+  const auto latency = [](const LatencyStats& l) {
+    return nlohmann::json{{"samples", l.samples},
+                          {"p50_ms", l.p50_ms},
+                          {"p99_ms", l.p99_ms},
+                          {"max_ms", l.max_ms},
+                          {"mean_ms", l.mean_ms}};
+  };
+  nlohmann::json j = {
+      {"command", c.command},
+      {"input", c.input},
+      {"method", c.method},
+      {"live", s.live},
+      {"frames",
+       {{"delivered", s.frames_delivered},
+        {"assembled", s.frames_assembled},
+        {"incomplete", s.incomplete_frames},
+        {"dropped", s.frames_dropped},
+        {"callback_exceptions", s.callback_exceptions}}},
+      {"packets",
+       {{"records", src.records},
+        {"data", src.data_packets},
+        {"position", src.position_packets},
+        {"skipped", src.skipped()},
+        {"truncated", src.truncated},
+        {"kernel_drops", src.kernel_drops},
+        {"decoded", dec.decoded},
+        {"malformed", dec.wrong_size + dec.bad_flag + dec.bad_azimuth + dec.unknown_mode},
+        {"product_mismatch", dec.product_mismatch},
+        {"lost", as.packets_lost},
+        {"duplicate", as.duplicate_packets},
+        {"reordered", as.reordered_packets}}},
+      {"returns", s.returns},
+      {"ground_returns", s.ground_returns},
+      {"ground_share", share(s.ground_returns, s.returns)},
+      {"timings", {{"detect", latency(s.detect)}, {"latency", latency(s.latency)}}},
+      {"elapsed_s", s.elapsed_s},
+      {"frames_per_s", frames_per_s(s)},
+      {"warnings", c.warnings},
+  };
+  if (!c.gps.empty()) j["gps"] = c.gps;
+  return j.dump(2);
+}
+
+}  // namespace vlpground::cli

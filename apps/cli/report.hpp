@@ -1,0 +1,29 @@
+// Console output of replay/live: per-frame lines (no terminal) or a progress bar (terminal),
+// and the final summary as a table or JSON.
+#pragma once
+
+#include <cstdio>
+#include <string>
+
+#include "vlpground/pipeline.hpp"
+
+namespace vlpground::cli {
+
+/// "frame 3: 1808 columns, 28931 returns, 41.2% ground, 1.9 ms detect" into `to`, flushed.
+void print_frame_line(std::FILE* to, const LabelledFrame& f);
+
+/// Redraws one progress line (frames, percent of the file, frames/s) on a terminal.
+void print_progress(std::FILE* to, const PipelineStats& s);
+
+struct SummaryContext {
+  std::string command;  // "replay" | "live"
+  std::string input;    // source description
+  std::string method;
+  std::string gps;  // last telemetry state, empty when none
+  std::uint64_t warnings = 0;
+};
+
+void print_summary_table(std::FILE* to, const PipelineStats& s, const SummaryContext& c);
+std::string summary_json(const PipelineStats& s, const SummaryContext& c);
+
+}  // namespace vlpground::cli
