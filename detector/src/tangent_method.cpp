@@ -300,6 +300,34 @@ class TangentMethod final : public Method {
       if (std::abs(plane_z(g.plane, out.centre_x_m, out.centre_y_m) - za) > cfg_.max_step_m)
         g.has_ground = false;
     }
+    check_edges(out, anchor);
+  }
+
+  // Adjacent segments with their own ground must also agree along their shared edge (at
+  // 5, 10, 15 m from the centre, inside the fit radius); otherwise the higher one
+  // (never the anchor) loses its ground. A tilted plane through car sides or a facade can
+  // meet the anchor at the centre yet rise a metre above the terrain further out.
+  void check_edges(GroundResult& out, int anchor) const {
+    // Pairs sharing the line x = cx (direction +-y) or y = cy (direction +-x).
+    constexpr int kPairs[4][2] = {{0, 1}, {2, 3}, {0, 2}, {1, 3}};
+    constexpr float kDir[4][2] = {{0, -1}, {0, 1}, {-1, 0}, {1, 0}};
+    for (int k = 0; k < 4; ++k) {
+      GroundSegment& a = out.segments[idx(kPairs[k][0])];
+      GroundSegment& b = out.segments[idx(kPairs[k][1])];
+      if (!a.has_ground || !b.has_ground) continue;
+      float worst = 0;  // signed: a's height minus b's where they differ most
+      for (float dist : {5.f, 10.f, 15.f}) {
+        const float x = out.centre_x_m + kDir[k][0] * dist, y = out.centre_y_m + kDir[k][1] * dist;
+        if (std::hypot(x - origin_x_, y - origin_y_) > radius_) break;
+        const float diff = plane_z(a.plane, x, y) - plane_z(b.plane, x, y);
+        if (std::abs(diff) > std::abs(worst)) worst = diff;
+      }
+      if (std::abs(worst) <= cfg_.max_step_m) continue;
+      // Ground is the lower envelope: the plane riding higher is the implausible one.
+      int loser = worst > 0 ? kPairs[k][0] : kPairs[k][1];
+      if (loser == anchor) loser = kPairs[k][0] + kPairs[k][1] - loser;
+      out.segments[idx(loser)].has_ground = false;
+    }
   }
 
   // Segments without ground inherit the plane of the best-scoring neighbour with ground.
