@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <vector>
 
 #include "method.hpp"
 
@@ -81,6 +82,46 @@ inline bool fit_plane(const Cloud& cloud, std::span<const std::uint32_t> idx, Pl
   out.d = static_cast<float>(-n.dot(mean));
   return true;
 }
+
+/// The fitting set of a baseline: returns within `radius_m` horizontally, thinned to the first
+/// return of every `cell_m` x `cell_m` horizontal grid cell (the paper's 0.1 m sub-sampling;
+/// cell_m = 0 keeps them all). Buffers are kept between frames; a frame stamp avoids clearing
+/// the occupancy grid.
+class FitSet {
+ public:
+  void select(const Cloud& cloud, double radius_m, double cell_m) {
+    indices_.clear();
+    const auto radius = static_cast<float>(radius_m);
+    const bool thin = cell_m > 0;
+    int side = 0;
+    if (thin) {
+      side = static_cast<int>(std::ceil(2.0 * radius_m / cell_m)) + 1;
+      const auto cells = static_cast<std::size_t>(side) * static_cast<std::size_t>(side);
+      if (stamp_.size() != cells) stamp_.assign(cells, 0);
+      if (++frame_ == 0) {  // wrapped: forget every old stamp
+        std::fill(stamp_.begin(), stamp_.end(), 0u);
+        frame_ = 1;
+      }
+    }
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      if (!(cloud.range_xy[i] < radius)) continue;
+      if (thin) {
+        const auto gx = static_cast<std::size_t>((cloud.x[i] + radius_m) / cell_m);
+        const auto gy = static_cast<std::size_t>((cloud.y[i] + radius_m) / cell_m);
+        std::uint32_t& stamp = stamp_[gy * static_cast<std::size_t>(side) + gx];
+        if (stamp == frame_) continue;
+        stamp = frame_;
+      }
+      indices_.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  [[nodiscard]] std::vector<std::uint32_t>& indices() { return indices_; }
+
+ private:
+  std::vector<std::uint32_t> indices_;
+  std::vector<std::uint32_t> stamp_;
+  std::uint32_t frame_ = 0;
+};
 
 /// splitmix64 (Steele, Lea, Flood 2014): a tiny PRNG whose sequence is the same on every
 /// platform and standard library, unlike std::uniform_int_distribution.

@@ -4,7 +4,8 @@
 //
 // Segments: three fixed longitudinal segments, equal thirds of [-R, R] along the vehicle x
 // axis with R = fit_radius_m: [-R, -R/3), [-R/3, R/3), [R/3, R]. Fitting uses the returns
-// within R horizontally; labelling covers every return, the ones beyond R taking the segment
+// within R horizontally, sub-sampled on a subsample_cell_m grid (the paper's protocol for
+// every method); labelling covers every return, the ones beyond R taking the segment
 // their x falls in (x < -R/3 -> first, x >= R/3 -> last).
 // Per segment: sort by height; LPR = mean z of the N_LPR = 20 lowest returns; seeds = the
 // returns with z < LPR + Th_seeds (0.4 m); then N_iter = 3 times: fit a plane to the current
@@ -76,11 +77,8 @@ class LprMethod final : public Method {
 
   void split_segments(const Cloud& cloud) {
     for (auto& seg : segment_) seg.clear();
-    const auto radius = static_cast<float>(config_.fit_radius_m);
-    for (std::size_t i = 0; i < cloud.size(); ++i) {
-      if (cloud.range_xy[i] >= radius) continue;
-      segment_[segment_of(cloud.x[i])].push_back(static_cast<std::uint32_t>(i));
-    }
+    fit_set_.select(cloud, config_.fit_radius_m, config_.subsample_cell_m);
+    for (const std::uint32_t i : fit_set_.indices()) segment_[segment_of(cloud.x[i])].push_back(i);
   }
 
   // Zermas Algorithm 1 on one segment. Returns whether a plane was fitted.
@@ -116,6 +114,7 @@ class LprMethod final : public Method {
   }
 
   DetectorConfig config_;
+  baseline::FitSet fit_set_;
   std::vector<std::uint32_t> segment_[kSegments];  // fitting returns of each segment
   std::vector<std::uint32_t> ground_;
   Plane planes_[kSegments] = {};

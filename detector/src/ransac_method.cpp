@@ -1,7 +1,8 @@
 // Baseline "ransac": vanilla single-plane RANSAC (the paper's "Vanilla RANSAC" comparison).
 //
-// Fit: M = hypotheses planes through 3 random returns within fit_radius_m; the winner
-// maximises the inlier count |n . x + d| < epsilon (paper eq. 1). The winner is then refit
+// Fit set: returns within fit_radius_m, sub-sampled on a subsample_cell_m horizontal grid as
+// in the paper's experiments. Fit: M = hypotheses planes through 3 random fit-set returns; the
+// winner maximises the inlier count |n . x + d| < epsilon (paper eq. 1). The winner is then refit
 // once by orthogonal least squares on its inliers (kept only if it has at least as many
 // inliers). Label: every return with |n . x + d| < epsilon is ground, else obstacle; height
 // is the signed distance to the plane. Randomness: splitmix64 seeded with `seed` at every
@@ -42,11 +43,7 @@ class RansacMethod final : public Method {
 
  private:
   void select_candidates(const Cloud& cloud) {
-    candidates_.clear();
-    const auto radius = static_cast<float>(config_.fit_radius_m);
-    for (std::size_t i = 0; i < cloud.size(); ++i) {
-      if (cloud.range_xy[i] < radius) candidates_.push_back(static_cast<std::uint32_t>(i));
-    }
+    fit_set_.select(cloud, config_.fit_radius_m, config_.subsample_cell_m);
   }
 
   int count_inliers(const Cloud& cloud, const Plane& p, float epsilon) const {
@@ -112,7 +109,8 @@ class RansacMethod final : public Method {
   }
 
   DetectorConfig config_;
-  std::vector<std::uint32_t> candidates_;  // returns within fit_radius_m
+  baseline::FitSet fit_set_;
+  std::vector<std::uint32_t>& candidates_ = fit_set_.indices();  // the fit set
   std::vector<std::uint32_t> inlier_idx_;
 };
 

@@ -3,6 +3,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
+#include <vector>
 
 #include "vlpground/driver/capture_reader.hpp"
 #include "vlpground/driver/packet_source.hpp"
@@ -21,20 +22,32 @@ CaptureScore score_capture(const std::filesystem::path& pcap_path,
 CaptureScore score_capture(const std::filesystem::path& pcap_path,
                            const std::filesystem::path& labels_path, const DetectorConfig& detector,
                            const CaptureScoreOptions& options) {
+  return score_capture(pcap_path, labels_path, std::span<const DetectorConfig>(&detector, 1),
+                       options)
+      .front();
+}
+
+std::vector<CaptureScore> score_capture(const std::filesystem::path& pcap_path,
+                                        const std::filesystem::path& labels_path,
+                                        std::span<const DetectorConfig> detectors,
+                                        const CaptureScoreOptions& options) {
   if (options.max_frames < 0) {
     throw std::invalid_argument("CaptureScoreOptions: max_frames must be >= 0 (0 = all)");
   }
+  if (detectors.empty()) throw std::invalid_argument("score_capture: no detector configuration");
   const GroundTruth truth = GroundTruth::load(labels_path);
   FrameScorer scorer(options.score);
-  GroundDetector ground(detector);
+  std::vector<GroundDetector> ground;
+  std::vector<CaptureScore> out(detectors.size());
+  for (std::size_t k = 0; k < detectors.size(); ++k) {
+    ground.emplace_back(detectors[k]);
+    out[k].capture = pcap_path.stem().string();
+    out[k].method = detectors[k].method;
+  }
 
   PcapSourceConfig source;
   source.path = pcap_path.string();
   CaptureReader reader(open_pcap_source(source));
-
-  CaptureScore out;
-  out.capture = pcap_path.stem().string();
-  out.method = detector.method;
   Frame frame;
   GroundResult result;
   result.reserve(frame.capacity());
@@ -44,11 +57,14 @@ CaptureScore score_capture(const std::filesystem::path& pcap_path,
     if (status == ReadStatus::timeout) continue;  // replay does not time out; be tolerant
     if (status != ReadStatus::frame) break;
     if (options.skip_incomplete && !frame.meta.complete) continue;
-    const auto start = std::chrono::steady_clock::now();
-    ground.detect(frame, result);
-    out.detect_ms_total +=
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    out.score += scorer.score(frame, result, truth);
+    for (std::size_t k = 0; k < detectors.size(); ++k) {
+      const auto start = std::chrono::steady_clock::now();
+      ground[k].detect(frame, result);
+      out[k].detect_ms_total +=
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+              .count();
+      out[k].score += scorer.score(frame, result, truth);
+    }
     ++scored;
   }
   return out;

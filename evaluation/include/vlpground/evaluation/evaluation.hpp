@@ -149,6 +149,13 @@ CaptureScore score_capture(const std::filesystem::path& pcap_path,
                            const std::filesystem::path& labels_path, const DetectorConfig& detector,
                            const CaptureScoreOptions& options);
 
+/// Same for several detector configurations at once: the capture is read and decoded once,
+/// every frame goes through each detector in turn. One result per configuration, in order.
+std::vector<CaptureScore> score_capture(const std::filesystem::path& pcap_path,
+                                        const std::filesystem::path& labels_path,
+                                        std::span<const DetectorConfig> detectors,
+                                        const CaptureScoreOptions& options);
+
 /// Extrinsics from a simulator `STEM.json` (mounting roll/pitch, sensor height), so the
 /// vehicle frame has z = 0 on the ground under the sensor. Throws std::runtime_error.
 Extrinsics load_sim_extrinsics(const std::filesystem::path& json_path);
