@@ -3,6 +3,8 @@
 // figures measured when they were set, so a regression cannot pass silently.
 #include <catch2/catch.hpp>
 #include <map>
+#include <span>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -129,4 +131,31 @@ TEST_CASE("the tangent method beats both baselines on every capture",
     CHECK(tangent > scores.at({stem, "ransac"}).score.all.f1());
     CHECK(tangent > scores.at({stem, "lpr"}).score.all.f1());
   }
+}
+
+TEST_CASE("score_capture reports missing inputs and bad options", "[evaluation]") {
+  const auto dir = vlpground::test::temp_dir("eval-capture");
+  vlpground::DetectorConfig config;
+  CHECK_THROWS_AS(vlpground::eval::score_capture(dir / "none.pcap", dir / "none.labels", config),
+                  std::runtime_error);
+  vlpground::eval::CaptureScoreOptions options;
+  options.max_frames = -1;
+  CHECK_THROWS_AS(
+      vlpground::eval::score_capture(dir / "none.pcap", dir / "none.labels", config, options),
+      std::invalid_argument);
+  CHECK_THROWS_AS(vlpground::eval::score_capture(dir / "none.pcap", dir / "none.labels",
+                                                 std::span<const vlpground::DetectorConfig>{},
+                                                 vlpground::eval::CaptureScoreOptions{}),
+                  std::invalid_argument);
+  CHECK_THROWS_AS(vlpground::eval::load_sim_extrinsics(dir / "none.json"), std::runtime_error);
+}
+
+TEST_CASE("sim extrinsics come from the capture's json", "[evaluation][sim]") {
+  const auto json = vlpground::test::shared_file("sim", "fences_dual.json");
+  VLPGROUND_REQUIRE_SHARED(json);
+  const vlpground::Extrinsics e = vlpground::eval::load_sim_extrinsics(*json);
+  CHECK(e.z_m > 1.0);  // sensor height above the ground, metres
+  CHECK(e.z_m < 3.0);
+  CHECK(e.roll_deg == 0.0);
+  CHECK(e.pitch_deg == 0.0);
 }
