@@ -76,8 +76,15 @@ class LprMethod final : public Method {
   }
 
   void split_segments(const Cloud& cloud) {
-    for (auto& seg : segment_) seg.clear();
     fit_set_.select(cloud, config_.fit_radius_m, config_.subsample_cell_m);
+    // Room for the whole fit set in every segment: how returns spread over the segments
+    // changes from frame to frame, the total only grows up to the largest frame.
+    const std::size_t n = fit_set_.indices().size();
+    for (auto& seg : segment_) {
+      seg.clear();
+      if (seg.capacity() < n) seg.reserve(n);
+    }
+    if (ground_.capacity() < n) ground_.reserve(n);
     for (const std::uint32_t i : fit_set_.indices()) segment_[segment_of(cloud.x[i])].push_back(i);
   }
 

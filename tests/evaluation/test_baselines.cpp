@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "allocation_counter.hpp"
 #include "method.hpp"
 
 using vlpground::Frame;
@@ -224,6 +225,24 @@ TEST_CASE("baselines label both layers of a dual frame", "[evaluation][baselines
       CHECK(last.other == 0);
       CHECK(last.ground == strongest.ground);
       CHECK(last.ground + last.obstacle == static_cast<int>(cloud.size() / 2));
+    }
+  }
+}
+
+TEST_CASE("baselines do not allocate once warmed up", "[evaluation][baselines]") {
+  const Frame busy = make_frame(true);
+  const Frame sparse = make_frame(false);
+  const detail::Cloud busy_cloud = cloud_of(busy), sparse_cloud = cloud_of(sparse);
+  for (const std::string name : {"ransac", "lpr"}) {
+    SECTION(name) {
+      auto method = make(name);
+      GroundResult r = sized_result(busy);
+      method->detect(busy, busy_cloud, r);  // warm-up: buffers grow to the largest frame
+      method->detect(sparse, sparse_cloud, r);
+      const long before = vlpground::test::allocation_count();
+      method->detect(sparse, sparse_cloud, r);
+      method->detect(busy, busy_cloud, r);
+      CHECK(vlpground::test::allocation_count() == before);
     }
   }
 }

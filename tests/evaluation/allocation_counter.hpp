@@ -1,0 +1,7 @@
+// Global operator new counter of the baselines test binary.
+#pragma once
+
+namespace vlpground::test {
+/// Number of global operator new / new[] calls so far in this process.
+long allocation_count();
+}  // namespace vlpground::test
