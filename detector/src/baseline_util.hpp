@@ -115,7 +115,7 @@ class FitSet {
       indices_.push_back(static_cast<std::uint32_t>(i));
     }
   }
-  [[nodiscard]] std::vector<std::uint32_t>& indices() { return indices_; }
+  [[nodiscard]] const std::vector<std::uint32_t>& indices() const { return indices_; }
 
  private:
   std::vector<std::uint32_t> indices_;

@@ -48,7 +48,7 @@ class RansacMethod final : public Method {
 
   int count_inliers(const Cloud& cloud, const Plane& p, float epsilon) const {
     int count = 0;
-    for (const std::uint32_t i : candidates_) {
+    for (const std::uint32_t i : candidates()) {
       count += std::abs(baseline::signed_distance(p, cloud.x[i], cloud.y[i], cloud.z[i])) < epsilon;
     }
     return count;
@@ -73,7 +73,7 @@ class RansacMethod final : public Method {
   }
 
   bool best_hypothesis(const Cloud& cloud, float epsilon, Plane& best, int& best_inliers) const {
-    const auto n = static_cast<std::uint32_t>(candidates_.size());
+    const auto n = static_cast<std::uint32_t>(candidates().size());
     if (n < 3) return false;
     baseline::SplitMix64 rng(config_.seed);
     best_inliers = -1;
@@ -81,7 +81,7 @@ class RansacMethod final : public Method {
       const std::uint32_t a = rng.below(n), b = rng.below(n), c = rng.below(n);
       if (a == b || b == c || a == c) continue;  // a wasted draw, as in textbook RANSAC
       Plane p;
-      if (!plane_through(cloud, candidates_[a], candidates_[b], candidates_[c], p)) continue;
+      if (!plane_through(cloud, candidates()[a], candidates()[b], candidates()[c], p)) continue;
       const int inliers = count_inliers(cloud, p, epsilon);
       if (inliers > best_inliers) {
         best_inliers = inliers;
@@ -93,7 +93,7 @@ class RansacMethod final : public Method {
 
   void refit(const Cloud& cloud, float epsilon, Plane& plane, int& inliers) {
     inlier_idx_.clear();
-    for (const std::uint32_t i : candidates_) {
+    for (const std::uint32_t i : candidates()) {
       if (std::abs(baseline::signed_distance(plane, cloud.x[i], cloud.y[i], cloud.z[i])) <
           epsilon) {
         inlier_idx_.push_back(i);
@@ -109,8 +109,9 @@ class RansacMethod final : public Method {
   }
 
   DetectorConfig config_;
+  [[nodiscard]] const std::vector<std::uint32_t>& candidates() const { return fit_set_.indices(); }
+
   baseline::FitSet fit_set_;
-  std::vector<std::uint32_t>& candidates_ = fit_set_.indices();  // the fit set
   std::vector<std::uint32_t> inlier_idx_;
 };
 
