@@ -63,7 +63,9 @@ std::vector<CaptureScore> score_capture(const std::filesystem::path& pcap_path,
       out[k].detect_ms_total +=
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
               .count();
-      out[k].score += scorer.score(frame, result, truth);
+      const Score frame_score = scorer.score(frame, result, truth);
+      out[k].score += frame_score;
+      if (options.on_frame) options.on_frame(k, frame, result, frame_score);
     }
     ++scored;
   }

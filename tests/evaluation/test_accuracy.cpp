@@ -150,6 +150,31 @@ TEST_CASE("score_capture reports missing inputs and bad options", "[evaluation]"
   CHECK_THROWS_AS(vlpground::eval::load_sim_extrinsics(dir / "none.json"), std::runtime_error);
 }
 
+TEST_CASE("per-frame scores add up to the capture score", "[evaluation][sim]") {
+  const auto pcap = vlpground::test::shared_file("sim", "urban_strongest.pcap");
+  const auto labels = vlpground::test::shared_file("sim", "urban_strongest.labels");
+  VLPGROUND_REQUIRE_SHARED(pcap);
+  vlpground::DetectorConfig config;
+  config.method = "lpr";
+  vlpground::eval::CaptureScoreOptions options;
+  options.max_frames = 2;
+  vlpground::eval::Score sum;
+  std::size_t calls = 0;
+  options.on_frame = [&](std::size_t detector, const vlpground::Frame& frame,
+                         const vlpground::GroundResult& result, const vlpground::eval::Score& s) {
+    CHECK(detector == 0);
+    CHECK(result.columns == frame.columns());
+    sum += s;
+    ++calls;
+  };
+  const auto total = vlpground::eval::score_capture(*pcap, *labels, config, options);
+  CHECK(calls == 2);
+  CHECK(total.score.frames == 2);
+  CHECK(sum.all.tp == total.score.all.tp);
+  CHECK(sum.all.fp == total.score.all.fp);
+  CHECK(sum.high_obstacles == total.score.high_obstacles);
+}
+
 TEST_CASE("sim extrinsics come from the capture's json", "[evaluation][sim]") {
   const auto json = vlpground::test::shared_file("sim", "fences_dual.json");
   VLPGROUND_REQUIRE_SHARED(json);

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -101,8 +102,9 @@ struct Score {
 class FrameScorer {
  public:
   explicit FrameScorer(const ScoreConfig& config = {});
-  /// Scores `result` (labels of `frame`) against `truth`; adds to nothing, returns the
-  /// frame's score with frames = 1.
+  /// Scores `result` (the labels of `frame`) against `truth` and returns this frame's score
+  /// (frames = 1); accumulate over frames with Score::operator+=. Throws
+  /// std::invalid_argument when `result` is not sized for `frame`.
   Score score(const Frame& frame, const GroundResult& result, const GroundTruth& truth);
 
  private:
@@ -137,6 +139,10 @@ struct CaptureScoreOptions {
   ScoreConfig score;
   int max_frames = 0;            // 0 = every frame
   bool skip_incomplete = false;  // leave out partial frames (start / end of capture)
+  // Optional: called after every scored frame with the index of the detector configuration,
+  // the frame, its labels and its score (per-frame reports, pictures with the truth).
+  std::function<void(std::size_t detector, const Frame&, const GroundResult&, const Score&)>
+      on_frame;
 };
 
 /// Reads `pcap_path` with a CaptureReader, detects ground in every frame with `detector` and
