@@ -1,0 +1,259 @@
+// End-to-end tests of the built `vlpground` executable.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "child_process.hpp"
+#include "test_data.hpp"
+#include "vlpground/driver/packet_source.hpp"
+
+using namespace vlpground;
+using test::run_cli;
+
+namespace {
+
+const std::string kCli = VLPGROUND_CLI;
+const std::string kHeader =
+    "frame,laser_id,ring,return,timestamp_us,azimuth_deg,distance_m,x,y,z,intensity,ground";
+
+std::vector<std::string> read_lines(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  return lines;
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string f; std::getline(ss, f, ',');) out.push_back(f);
+  return out;
+}
+
+bool one_line(const std::string& s) {
+  return !s.empty() && s.back() == '\n' && s.find('\n') == s.size() - 1;
+}
+
+struct PcapFacts {
+  std::uint64_t returns = 0;   // distances != 0 over all data packets
+  double first_stamp_us = -1;  // stamp of the first data packet
+};
+
+// Independent of the decoder: raw bytes of the data packets.
+PcapFacts pcap_facts(const std::filesystem::path& path) {
+  PcapSourceConfig c;
+  c.path = path.string();
+  auto source = open_pcap_source(c);
+  PcapFacts f;
+  PacketView v;
+  while (source->next(v, 1000) == SourceStatus::packet) {
+    if (v.kind != PacketKind::data) continue;
+    for (std::size_t b = 0; b < 12; ++b) {
+      for (std::size_t ch = 0; ch < 32; ++ch) {
+        const std::size_t at = b * 100 + 4 + ch * 3;
+        if ((v.bytes[at] | v.bytes[at + 1]) != 0) ++f.returns;
+      }
+    }
+    if (f.first_stamp_us < 0) {
+      std::uint32_t stamp = 0;
+      for (int i = 3; i >= 0; --i)
+        stamp = (stamp << 8) | v.bytes[1200 + static_cast<std::size_t>(i)];
+      f.first_stamp_us = stamp;
+    }
+  }
+  return f;
+}
+
+std::uint16_t free_udp_port() {
+  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+  close(fd);
+  return ntohs(a.sin_port);
+}
+
+}  // namespace
+
+TEST_CASE("replay --csv writes one row per return with exact firing times") {
+  for (const char* stem : {"urban_strongest", "fences_dual", "urban_hires_last", "flat_20hz"}) {
+    const auto pcap = test::shared_file("sim", std::string(stem) + ".pcap");
+    VLPGROUND_REQUIRE_SHARED(pcap);
+    INFO(stem);
+    const auto csv = test::temp_dir("cli_csv") / "out.csv";
+    const auto r = run_cli({kCli, "replay", pcap->string(), "--csv", csv.string()});
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("frame 1: ") != std::string::npos);
+    CHECK(r.out.find("summary") != std::string::npos);
+    const auto lines = read_lines(csv);
+    REQUIRE(!lines.empty());
+    CHECK(lines[0] == kHeader);
+    const PcapFacts facts = pcap_facts(*pcap);
+    CHECK(lines.size() - 1 == facts.returns);
+    std::size_t bad_time = 0, bad_fields = 0;
+    for (std::size_t i = 1; i < lines.size(); ++i) {
+      const auto f = split(lines[i]);
+      if (f.size() != 12 || (f[11] != "0" && f[11] != "1") || (f[3] != "0" && f[3] != "1")) {
+        ++bad_fields;
+        continue;
+      }
+      // Firing time = packet stamp (whole us) + 55.296 us * s + 2.304 us * laser, s < 24.
+      const double t = std::stod(f[4]) - 2.304 * std::stoi(f[1]);
+      bool on_grid = false;
+      for (int seq = 0; seq < 24 && !on_grid; ++seq) {
+        const double stamp = t - 55.296 * seq;
+        on_grid = std::fabs(stamp - std::round(stamp)) < 0.002;
+      }
+      if (!on_grid || std::stod(f[4]) < facts.first_stamp_us) ++bad_time;
+    }
+    CHECK(bad_fields == 0);
+    CHECK(bad_time == 0);
+  }
+}
+
+TEST_CASE("eval prints precision, recall and F1") {
+  const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
+  const auto labels = test::shared_file("sim", "urban_strongest.labels");
+  VLPGROUND_REQUIRE_SHARED(pcap);
+  const auto r = run_cli({kCli, "eval", pcap->string(), "--labels", labels->string()});
+  REQUIRE(r.code == 0);
+  const auto at = r.out.find("F1");
+  REQUIRE(at != std::string::npos);
+  const double f1 = std::stod(r.out.substr(r.out.find_first_of("0123456789", at)));
+  CHECK(f1 > 0.8);
+  CHECK(f1 <= 1.0);
+}
+
+TEST_CASE("bad input gives a one-line error and a non-zero exit") {
+  SECTION("missing file") {
+    const auto r = run_cli({kCli, "replay", "/nonexistent/capture.pcap"});
+    CHECK(r.code == 1);
+    CHECK(one_line(r.err));
+  }
+  SECTION("malformed options") {
+    for (const auto& args :
+         std::vector<std::vector<std::string>>{{kCli, "replay", "x.pcap", "--frames", "ten"},
+                                               {kCli, "replay", "x.pcap", "--method", "magic"},
+                                               {kCli, "live", "--port", "70000"},
+                                               {kCli, "info"},
+                                               {kCli, "eval", "x.pcap"},
+                                               {kCli, "replay", "--bogus"}}) {
+      const auto r = run_cli(args);
+      CHECK(r.code == 2);
+      CHECK(one_line(r.err));
+    }
+  }
+  SECTION("not a VLP-16 capture") {
+    const auto pcap = test::shared_file("real", "hdl32e_short.pcap");
+    VLPGROUND_REQUIRE_SHARED(pcap);
+    const auto r = run_cli({kCli, "replay", pcap->string()});
+    CHECK(r.code == 1);
+    CHECK(one_line(r.err));
+    CHECK(r.err.find("HDL-32E") != std::string::npos);
+    const auto info = run_cli({kCli, "info", pcap->string()});
+    CHECK(info.code == 1);
+    CHECK(info.out.find("not a VLP-16") != std::string::npos);
+  }
+  SECTION("port in use") {
+    const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    REQUIRE(bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0);
+    socklen_t len = sizeof a;
+    getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+    const auto r = run_cli({kCli, "live", "--bind", "127.0.0.1", "--port",
+                            std::to_string(ntohs(a.sin_port)), "--position-port", "0"});
+    close(fd);
+    CHECK(r.code == 1);
+    CHECK(one_line(r.err));
+  }
+}
+
+TEST_CASE("help documents every command") {
+  for (const char* cmd : {"replay", "live", "info", "eval"}) {
+    const auto r = run_cli({kCli, cmd, "--help"});
+    CHECK(r.code == 0);
+    CHECK(r.out.find("usage: vlpground") != std::string::npos);
+  }
+}
+
+TEST_CASE("live over loopback UDP labels like replay, and SIGINT ends a run cleanly") {
+  const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
+  VLPGROUND_REQUIRE_SHARED(pcap);
+  const auto dir = test::temp_dir("cli_live");
+  const auto replay_csv = dir / "replay.csv", live_csv = dir / "live.csv";
+  REQUIRE(run_cli({kCli, "replay", pcap->string(), "--csv", replay_csv.string()}).code == 0);
+  const auto replay_lines = read_lines(replay_csv);
+  REQUIRE(replay_lines.size() > 1);
+  const int frames = std::stoi(split(replay_lines.back())[0]);  // the last, partial frame
+  REQUIRE(frames >= 2);
+
+  const std::uint16_t port = free_udp_port(), position_port = free_udp_port();
+  test::ChildProcess child({kCli, "live", "--bind", "127.0.0.1", "--port", std::to_string(port),
+                            "--position-port", std::to_string(position_port), "--frames",
+                            std::to_string(frames), "--queue", "16", "--csv", live_csv.string()});
+  REQUIRE(child.wait_for_stderr("listening", 20'000));
+
+  // Send the capture at its own pace (rate 1.0: a live sensor's timing).
+  PcapSourceConfig c;
+  c.path = pcap->string();
+  c.rate = 1.0;
+  auto source = open_pcap_source(c);
+  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  PacketView v;
+  while (source->next(v, 5000) == SourceStatus::packet) {
+    to.sin_port = htons(v.kind == PacketKind::data ? port : position_port);
+    sendto(fd, v.bytes.data(), v.bytes.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
+  }
+  close(fd);
+  const int code = child.wait_exit(30'000);
+  INFO(child.err);
+  REQUIRE(code == 0);
+  CHECK(child.out.find("summary (live)") != std::string::npos);
+  // Live may split the first rotation where the GPS hour takes over from the host clock, so
+  // compare the complete rotations, which must be identical but for the frame number.
+  const auto without_frame = [](const std::string& l) { return l.substr(l.find(',')); };
+  const auto rows_of = [&](const std::vector<std::string>& lines, int first, int last) {
+    std::vector<std::string> rows;
+    for (std::size_t i = 1; i < lines.size(); ++i) {
+      const int f = std::stoi(split(lines[i])[0]);
+      if (f >= first && f <= last) rows.push_back(without_frame(lines[i]));
+    }
+    return rows;
+  };
+  const auto live_lines = read_lines(live_csv);
+  REQUIRE(live_lines.size() > 1);
+  const int live_last = std::stoi(split(live_lines.back())[0]);
+  const int complete = frames - 2;  // replay frames 1 .. frames-2 are complete rotations
+  const auto expected = rows_of(replay_lines, 1, frames - 2);
+  const auto got = rows_of(live_lines, live_last - complete + 1, live_last);
+  CHECK(got.size() == expected.size());
+  std::size_t differing = 0;
+  for (std::size_t i = 0; i < std::min(got.size(), expected.size()); ++i) {
+    if (got[i] != expected[i]) ++differing;
+  }
+  CHECK(differing == 0);
+
+  test::ChildProcess idle({kCli, "live", "--bind", "127.0.0.1", "--port",
+                           std::to_string(free_udp_port()), "--position-port", "0"});
+  REQUIRE(idle.wait_for_stderr("listening", 20'000));
+  idle.signal(SIGINT);
+  CHECK(idle.wait_exit(20'000) == 0);
+  CHECK(idle.out.find("summary (live)") != std::string::npos);
+}
