@@ -106,8 +106,12 @@ class FitSet {
     for (std::size_t i = 0; i < cloud.size(); ++i) {
       if (!(cloud.range_xy[i] < radius)) continue;
       if (thin) {
-        const auto gx = static_cast<std::size_t>((cloud.x[i] + radius_m) / cell_m);
-        const auto gy = static_cast<std::size_t>((cloud.y[i] + radius_m) / cell_m);
+        // Clamped: range_xy is measured from the sensor, x / y from the vehicle origin, so a
+        // sensor mounted off the origin puts some fit-set returns just outside [-R, R].
+        const auto gx = static_cast<std::size_t>(
+            std::clamp(std::floor((cloud.x[i] + radius_m) / cell_m), 0.0, side - 1.0));
+        const auto gy = static_cast<std::size_t>(
+            std::clamp(std::floor((cloud.y[i] + radius_m) / cell_m), 0.0, side - 1.0));
         std::uint32_t& stamp = stamp_[gy * static_cast<std::size_t>(side) + gx];
         if (stamp == frame_) continue;
         stamp = frame_;
