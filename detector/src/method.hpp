@@ -14,10 +14,10 @@ namespace vlpground::detail {
 /// Valid returns of a frame in the vehicle frame (extrinsics applied), structure of arrays.
 /// Built once per frame by the front end and shared by every method.
 struct Cloud {
-  std::vector<float> x, y, z;          // vehicle frame, metres
-  std::vector<float> range_xy;         // horizontal distance from the sensor origin
-  std::vector<std::uint32_t> cell;     // index into the frame's per-cell arrays
-  std::vector<std::uint8_t> layer;     // return layer of the point (0 or 1)
+  std::vector<float> x, y, z;       // vehicle frame, metres
+  std::vector<float> range_xy;      // horizontal distance from the sensor origin
+  std::vector<std::uint32_t> cell;  // index into the frame's per-cell arrays
+  std::vector<std::uint8_t> layer;  // return layer of the point (0 or 1)
   std::vector<std::uint16_t> ring, column;
   [[nodiscard]] std::size_t size() const { return x.size(); }
   void clear();

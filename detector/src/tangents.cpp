@@ -28,9 +28,9 @@ std::size_t walk(const Cloud& c, const TangentParams& p, std::size_t i, int step
   // and the column angle) when it is in the same row and continuous with i.
   if (p.column_angle_rad > 0) {
     const float spacing = c.range_xy[i] * p.column_angle_rad;
-    const auto k = static_cast<std::size_t>(std::clamp(
-        std::ceil(p.target_chord_m / std::max(spacing, 1e-4f)), 1.f,
-        static_cast<float>(p.max_span_columns)));
+    const auto k =
+        static_cast<std::size_t>(std::clamp(std::ceil(p.target_chord_m / std::max(spacing, 1e-4f)),
+                                            1.f, static_cast<float>(p.max_span_columns)));
     if (step > 0 ? i + k < c.size() : k <= i) {
       const std::size_t j = step > 0 ? i + k : i - k;
       if (same_row(c, i, j) &&

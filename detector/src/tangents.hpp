@@ -10,11 +10,11 @@
 namespace vlpground::detail {
 
 struct TangentParams {
-  int max_span_columns = 16;    // how far along the row a neighbour may be
-  float target_chord_m = 0.2f;  // walk outwards until a neighbour is this far away
-  float min_chord_m = 0.08f;    // shorter baselines are too noisy: no tangent
-  float jump_abs_m = 0.15f;     // range step refused as a discontinuity when larger than
-  float jump_rel = 0.03f;       //   jump_abs_m + jump_rel * range (per step along the row)
+  int max_span_columns = 16;     // how far along the row a neighbour may be
+  float target_chord_m = 0.2f;   // walk outwards until a neighbour is this far away
+  float min_chord_m = 0.08f;     // shorter baselines are too noisy: no tangent
+  float jump_abs_m = 0.15f;      // range step refused as a discontinuity when larger than
+  float jump_rel = 0.03f;        //   jump_abs_m + jump_rel * range (per step along the row)
   float column_angle_rad = 0.f;  // azimuth step between columns; > 0 enables the fast path
 };
 

@@ -1,8 +1,9 @@
 #include "test_data.hpp"
 
+#include <unistd.h>
+
 #include <atomic>
 #include <cstdlib>
-#include <unistd.h>
 
 namespace vlpground::test {
 
@@ -20,9 +21,9 @@ std::filesystem::path project_pcap(const std::string& name) {
 
 std::filesystem::path temp_dir(const std::string& tag) {
   static std::atomic<int> counter{0};
-  auto dir = std::filesystem::temp_directory_path() /
-             ("vlpground-" + tag + "-" + std::to_string(::getpid()) + "-" +
-              std::to_string(counter++));
+  auto dir =
+      std::filesystem::temp_directory_path() /
+      ("vlpground-" + tag + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

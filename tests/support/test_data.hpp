@@ -20,10 +20,10 @@ std::filesystem::path temp_dir(const std::string& tag);
 }  // namespace vlpground::test
 
 /// Skips the rest of the current test case with a visible message when `opt` is empty.
-#define VLPGROUND_REQUIRE_SHARED(opt)                                                    \
-  do {                                                                                   \
-    if (!(opt)) {                                                                        \
-      WARN("skipped: ../shared test data not found (set VLPGROUND_SHARED_DIR)");         \
-      return;                                                                            \
-    }                                                                                    \
+#define VLPGROUND_REQUIRE_SHARED(opt)                                            \
+  do {                                                                           \
+    if (!(opt)) {                                                                \
+      WARN("skipped: ../shared test data not found (set VLPGROUND_SHARED_DIR)"); \
+      return;                                                                    \
+    }                                                                            \
   } while (false)

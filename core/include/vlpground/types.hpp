@@ -25,8 +25,8 @@ inline constexpr std::uint8_t kModeLast = 0x38;
 inline constexpr std::uint8_t kModeDual = 0x39;
 
 /// Firing timing of the VLP-16 family, in nanoseconds (exact integers).
-inline constexpr std::int64_t kFiringIntervalNs = 2304;    // laser k fires 2.304 us after k-1
-inline constexpr std::int64_t kSequencePeriodNs = 55296;   // 16 firings + recharge
+inline constexpr std::int64_t kFiringIntervalNs = 2304;   // laser k fires 2.304 us after k-1
+inline constexpr std::int64_t kSequencePeriodNs = 55296;  // 16 firings + recharge
 inline constexpr std::int64_t kSinglePacketPeriodNs = 24 * kSequencePeriodNs;  // 1327.104 us
 inline constexpr std::int64_t kDualPacketPeriodNs = 12 * kSequencePeriodNs;    // 663.552 us
 
@@ -38,9 +38,12 @@ constexpr std::string_view to_string(Model m) { return m == Model::hires ? "hire
 
 constexpr std::string_view to_string(ReturnMode m) {
   switch (m) {
-    case ReturnMode::strongest: return "strongest";
-    case ReturnMode::last: return "last";
-    case ReturnMode::dual: return "dual";
+    case ReturnMode::strongest:
+      return "strongest";
+    case ReturnMode::last:
+      return "last";
+    case ReturnMode::dual:
+      return "dual";
   }
   return "?";
 }
