@@ -12,8 +12,14 @@ inline double wrap_deg(double deg) {
   return w >= 360.0 ? 0.0 : w;
 }
 
-/// Forward (clockwise) advance from `from` to `to`, in [0, 360).
-inline double forward_deg(double from, double to) { return wrap_deg(to - from); }
+/// Forward (clockwise) advance from `from` to `to`, in [0, 360). Called per firing: the
+/// usual inputs (both in [0, 360)) avoid fmod.
+inline double forward_deg(double from, double to) {
+  const double d = to - from;
+  if (d >= 0.0 && d < 360.0) return d;
+  if (d < 0.0 && d >= -360.0) return d + 360.0 >= 360.0 ? 0.0 : d + 360.0;
+  return wrap_deg(d);
+}
 
 /// Smallest angle between two azimuths, in [0, 180].
 inline double distance_deg(double a, double b) {

@@ -2,14 +2,19 @@
 
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 #include <stdexcept>
 
+#include "column_decoding.hpp"
 #include "le_load.hpp"
 #include "trig_table.hpp"
 
 namespace vlpground {
 
+struct PacketDecoder::Constants {
+  std::array<driver_detail::DecodeConstants, 2> by_model;  // indexed by Model
+};
+
+using driver_detail::block_azimuth;
 using driver_detail::kCentidegPerTurn;
 using driver_detail::load_le16;
 using driver_detail::load_le32;
@@ -17,168 +22,15 @@ using driver_detail::load_le32;
 namespace {
 
 constexpr std::size_t kBlockBytes = 100;
-constexpr std::size_t kRecordBytes = 3;
 constexpr std::size_t kStampOffset = 1200;
 constexpr std::size_t kModeOffset = 1204;
 constexpr std::size_t kProductOffset = 1205;
-constexpr int kChannelsPerBlock = 32;
 constexpr std::int64_t kHourNs = 3'600'000'000'000;
 constexpr std::int64_t kHourUs = 3'600'000'000;
 
-// Fraction of the block-to-block azimuth gap at which channel `ch` fires (manual):
-// (55.296 * (ch / 16) + 2.304 * (ch % 16)) / 110.592, exact in integer ns.
-constexpr std::array<double, kChannelsPerBlock> kGapFraction = [] {
-  std::array<double, kChannelsPerBlock> f{};
-  for (int ch = 0; ch < kChannelsPerBlock; ++ch) {
-    const auto ns = kSequencePeriodNs * (ch / 16) + kFiringIntervalNs * (ch % 16);
-    f[static_cast<std::size_t>(ch)] =
-        static_cast<double>(ns) / static_cast<double>(2 * kSequencePeriodNs);
-  }
-  return f;
-}();
-
-// Azimuth of a block in centidegrees, [0, 36000). Real sensors now and then send 36000
-// (seen in VLP-16 and HDL-32E captures): that is 0 degrees, not a malformed packet.
-int block_azimuth(const std::uint8_t* block) {
-  const int raw = load_le16(block + 2);
-  return raw == kCentidegPerTurn ? 0 : raw;
-}
-
-// Signed azimuth step from `from` to `to` in centidegrees, across the 0/360 wrap.
-int azimuth_step(int from, int to) {
-  int d = to - from;
-  if (d < -kCentidegPerTurn / 2) d += kCentidegPerTurn;
-  if (d > kCentidegPerTurn / 2) d -= kCentidegPerTurn;
-  return d;
-}
-
-// Gap (centidegrees) from each block group to the next, `stride` blocks apart (1 single,
-// 2 dual pairs). The last group has no successor in the packet: it gets the mean rate over
-// the packet, never zero (a constant rate within 1.3 ms).
-void azimuth_gaps(const std::array<int, kBlocksPerPacket>& az, int stride,
-                  std::array<double, kBlocksPerPacket>& gap) {
-  int total = 0;
-  int steps = 0;
-  for (int b = 0; b + stride < kBlocksPerPacket; b += stride) {
-    const int step =
-        azimuth_step(az[static_cast<std::size_t>(b)], az[static_cast<std::size_t>(b + stride)]);
-    gap[static_cast<std::size_t>(b)] = step;
-    total += step;
-    ++steps;
-  }
-  gap[static_cast<std::size_t>(kBlocksPerPacket - stride)] = static_cast<double>(total) / steps;
-}
-
-// cos/sin of the block azimuth; a laser's azimuth is that plus a small interpolated delta.
-struct BlockTrig {
-  driver_detail::CosSin cs;
-  int centideg;
-  bool small_gap;  // the delta is small enough for the series below
-};
-constexpr int kSmallGapCentideg = 500;
-constexpr double kRadPerCentideg = std::numbers::pi / 18000.0;
-
-// cos/sin of (block azimuth + delta): angle addition with a short series for the small delta
-// (|delta| <= 5 degrees: truncation error below 1e-12); the table for anything larger.
-inline driver_detail::CosSin rotate(const BlockTrig& block, double delta_centideg,
-                                    const driver_detail::TrigTable& trig) {
-  if (!block.small_gap)
-    return trig.at(driver_detail::wrap_centideg(block.centideg + delta_centideg));
-  const double d = delta_centideg * kRadPerCentideg;
-  const double d2 = d * d;
-  const double cd = 1.0 - d2 * (0.5 - d2 * (1.0 / 24.0 - d2 / 720.0));
-  const double sd = d * (1.0 - d2 * (1.0 / 6.0 - d2 / 120.0));
-  return {block.cs.cos * cd - block.cs.sin * sd, block.cs.sin * cd + block.cs.cos * sd};
-}
-
-// Per-laser constants of the hot loop (all from SensorModel).
-struct LaserConsts {
-  double cos_w, sin_w, offset_m, cos_rot, sin_rot, resolution_m, correction_m;
-};
-
-// Fills laser `k` of `column` for one return of `layer` from a 3-byte record.
-inline void fill_return(const std::uint8_t* record, const LaserConsts& c,
-                        const driver_detail::CosSin& cs, LaserReturn& out) {
-  const std::uint16_t raw = load_le16(record);
-  out.intensity = record[2];
-  if (raw == 0) {
-    out = LaserReturn{0.f, 0.f, 0.f, 0.f, record[2]};
-    return;
-  }
-  // Sensor frame, x forward, y left, z up: x = R cos(w) cos(a), y = -R cos(w) sin(a),
-  // z = R sin(w) + vertical offset (manual; a = azimuth + rotational correction).
-  const double r = raw * c.resolution_m + c.correction_m;
-  const double horizontal = r * c.cos_w;
-  out.distance_m = static_cast<float>(r);
-  out.x_m = static_cast<float>(horizontal * cs.cos);
-  out.y_m = static_cast<float>(-horizontal * cs.sin);
-  out.z_m = static_cast<float>(r * c.sin_w + c.offset_m);
-}
-
-std::array<LaserConsts, kLasers> laser_consts(const SensorModel& m) {
-  std::array<LaserConsts, kLasers> c{};
-  for (std::size_t k = 0; k < c.size(); ++k) {
-    const auto& l = m.lasers[k];
-    c[k] = {l.cos_elevation,        l.sin_elevation,      l.vertical_offset_m,
-            l.cos_azimuth_offset,   l.sin_azimuth_offset, m.distance_resolution_m,
-            l.distance_correction_m};
-  }
-  return c;
-}
-
-// Decodes the columns of a packet. `layer_of_block(b)` says into which return layer block b
-// goes; dual pairs share one column pair.
-void fill_columns(const std::uint8_t* p, const SensorModel& model, bool dual, std::int64_t time0_ns,
-                  DecodedPacket& out) {
-  const auto consts = laser_consts(model);
-  bool rotated = false;
-  for (const auto& c : consts) rotated = rotated || c.sin_rot != 0.0;
-  const auto& trig = driver_detail::TrigTable::instance();
-  std::array<int, kBlocksPerPacket> az{};
-  for (std::size_t b = 0; b < az.size(); ++b) az[b] = block_azimuth(p + b * kBlockBytes);
-  const int stride = dual ? 2 : 1;
-  std::array<double, kBlocksPerPacket> gap{};
-  azimuth_gaps(az, stride, gap);
-
-  for (int b = 0; b < kBlocksPerPacket; b += stride) {
-    const auto ub = static_cast<std::size_t>(b);
-    // Single: block b holds sequences 2b and 2b+1. Dual: pair (b, b+1) holds sequences b and
-    // b+1; the even block is the last return, the odd block the strongest.
-    const std::uint8_t* primary = p + (dual ? ub + 1 : ub) * kBlockBytes + 4;
-    const std::uint8_t* last = dual ? p + ub * kBlockBytes + 4 : nullptr;
-    const int first_sequence = dual ? b : 2 * b;
-    const BlockTrig block_trig{trig.at(az[ub]), az[ub], std::abs(gap[ub]) <= kSmallGapCentideg};
-    for (int half = 0; half < 2; ++half) {
-      const int sequence = first_sequence + half;
-      FiringColumn& col = out.columns[static_cast<std::size_t>(sequence)];
-      col.time_ns = time0_ns + sequence * kSequencePeriodNs;  // s * 55.296 us
-      for (std::size_t k = 0; k < static_cast<std::size_t>(kLasers); ++k) {
-        const std::size_t ch = static_cast<std::size_t>(half) * 16 + k;
-        const auto& c = consts[k];
-        const double delta = gap[ub] * kGapFraction[ch];
-        col.azimuth_deg[k] =
-            static_cast<float>(driver_detail::wrap_centideg(az[ub] + delta) / 100.0);
-        auto cs = rotate(block_trig, delta, trig);
-        if (rotated)
-          cs = {cs.cos * c.cos_rot - cs.sin * c.sin_rot, cs.sin * c.cos_rot + cs.cos * c.sin_rot};
-        const std::size_t at = ch * kRecordBytes;
-        fill_return(primary + at, c, cs, col.returns[kStrongestLayer][k]);
-        if (last != nullptr) {
-          fill_return(last + at, c, cs, col.returns[kLastLayer][k]);
-          col.same_echo[k] = static_cast<std::uint8_t>(
-              load_le16(last + at) != 0 && load_le16(last + at) == load_le16(primary + at) &&
-              last[at + 2] == primary[at + 2]);
-        }
-      }
-    }
-  }
-}
-
 void clear_last_layer(DecodedPacket& out) {
-  for (auto& col : out.columns) {
-    col.returns[kLastLayer] = {};
-    col.same_echo = {};
-  }
+  out.layer[kLastLayer] = {};
+  out.same_echo = {};
 }
 
 DecodeStatus check_layout(std::span<const std::uint8_t> bytes) {
@@ -224,7 +76,8 @@ void DecoderConfig::validate() const {
 PacketDecoder::PacketDecoder(const DecoderConfig& config)
     : config_(config),
       vlp16_(SensorModel::builtin(Model::vlp16)),
-      hires_(SensorModel::builtin(Model::hires)) {
+      hires_(SensorModel::builtin(Model::hires)),
+      constants_(std::make_unique<Constants>()) {
   config_.validate();
   if (!config_.calibration_file.empty()) {
     // A calibration describes the actual sensor, whatever the packets call it.
@@ -233,8 +86,16 @@ PacketDecoder::PacketDecoder(const DecoderConfig& config)
     vlp16_ = calibrated;
     hires_ = calibrated;
   }
+  constants_->by_model[static_cast<std::size_t>(Model::vlp16)] =
+      driver_detail::DecodeConstants::from(vlp16_);
+  constants_->by_model[static_cast<std::size_t>(Model::hires)] =
+      driver_detail::DecodeConstants::from(hires_);
   (void)driver_detail::TrigTable::instance();  // build the table now, not on the first packet
 }
+
+PacketDecoder::~PacketDecoder() = default;
+PacketDecoder::PacketDecoder(PacketDecoder&&) noexcept = default;
+PacketDecoder& PacketDecoder::operator=(PacketDecoder&&) noexcept = default;
 
 const SensorModel& PacketDecoder::sensor_model(Model m) const {
   return m == Model::hires ? hires_ : vlp16_;
@@ -376,7 +237,8 @@ DecodeStatus PacketDecoder::decode(std::span<const std::uint8_t> bytes, std::int
   out.time_ns = resolve_time_ns(stamp_us, receive_ns);
   out.first_azimuth_centideg = static_cast<std::uint16_t>(block_azimuth(p));
   out.column_count = dual ? kBlocksPerPacket : kMaxColumnsPerPacket;
-  fill_columns(p, sensor_model(out.model), dual, out.time_ns, out);
+  driver_detail::decode_columns(p, constants_->by_model[static_cast<std::size_t>(out.model)], dual,
+                                out.time_ns, out);
   ++counters_.decoded;
   return DecodeStatus::ok;
 }

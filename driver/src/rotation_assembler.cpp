@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "azimuth_math.hpp"
+#include "packet_run_copy.hpp"
 
 namespace vlpground {
 
@@ -14,7 +15,7 @@ using driver_detail::forward_deg;
 using driver_detail::wrap_deg;
 
 struct RotationAssembler::ColumnSource {
-  const FiringColumn* column = nullptr;  // nullptr: a lost / outside-FOV column
+  const DecodedPacket* packet = nullptr;  // nullptr: a lost / outside-FOV column
   std::int64_t time_ns = 0;
   double azimuth_deg = 0.0;
   std::uint64_t packet_index = kNoPacketIndex;
@@ -128,17 +129,17 @@ bool RotationAssembler::push(const DecodedPacket& packet, Frame& out,
 
   // Rotation rate over the packet (the decoder's per-laser azimuths already interpolate).
   const auto n = static_cast<std::size_t>(packet.column_count);
-  const FiringColumn& first = packet.columns[0];
-  const FiringColumn& last = packet.columns[n - 1];
-  if (n >= 2 && last.time_ns > first.time_ns) {
-    rate_deg_per_ns_ = forward_deg(first.azimuth_deg[0], last.azimuth_deg[0]) /
-                       static_cast<double>(last.time_ns - first.time_ns);
+  const auto& azimuth = packet.azimuth_deg[0];  // laser 0 of each column
+  const auto& time = packet.column_time_ns;
+  if (n >= 2 && time[n - 1] > time[0]) {
+    rate_deg_per_ns_ =
+        forward_deg(azimuth[0], azimuth[n - 1]) / static_cast<double>(time[n - 1] - time[0]);
   }
   for (std::size_t c = 0; c < n; ++c) {
-    const FiringColumn& column = packet.columns[c];
-    add_column(ColumnSource{&column, column.time_ns, column.azimuth_deg[0], packet.packet_index,
+    add_column(ColumnSource{&packet, time[c], azimuth[c], packet.packet_index,
                             static_cast<std::uint8_t>(c), false});
   }
+  write_pending_run();
   have_packet_ = true;
   last_packet_time_ns_ = packet.time_ns;
   last_seen_time_ns_ = packet.time_ns;
@@ -156,7 +157,7 @@ void RotationAssembler::handle_gap(const DecodedPacket& packet, std::int64_t del
                             1;
   const std::int64_t span_ns = packet.time_ns - last_column_time_ns_;
   const std::int64_t missing = std::llround(static_cast<double>(span_ns) / kSequencePeriodNs) - 1;
-  const double end_az = packet.columns[0].azimuth_deg[0];
+  const double end_az = packet.azimuth_deg[0][0];
   double advance = forward_deg(last_column_az_deg_, end_az);
   if (rate_deg_per_ns_ > 0.0) {
     const double expected = rate_deg_per_ns_ * static_cast<double>(span_ns);
@@ -218,14 +219,15 @@ void RotationAssembler::add_column(const ColumnSource& source) {
     begin_frame(source, false);
     col = current_.append_column_for_overwrite();
   }
-  if (source.column != nullptr) {
-    write_real_column(col, source);
+  write_column_header(col, source);
+  if (source.packet != nullptr) {
+    extend_pending_run(col, source);
     if (!packet_in_frame_) {
       packet_in_frame_ = true;
       ++current_.meta.packets_used;
     }
   } else {
-    write_empty_column(col, source);
+    write_empty_cells(col, source);
     if (source.outside_fov) {
       ++current_.meta.columns_outside_fov;
       ++counters_.columns_outside_fov;
@@ -251,46 +253,36 @@ void RotationAssembler::begin_frame(const ColumnSource& source, bool at_cut) {
   packet_in_frame_ = false;
 }
 
-void RotationAssembler::write_real_column(int col, const ColumnSource& source) {
-  const FiringColumn& column = *source.column;
+void RotationAssembler::write_column_header(int col, const ColumnSource& source) {
   const auto c = static_cast<std::size_t>(col);
   current_.column_azimuth_deg[c] = static_cast<float>(source.azimuth_deg);
   current_.column_time_ns[c] = source.time_ns;
-  current_.column_valid[c] = 1;
+  current_.column_valid[c] = source.packet != nullptr ? 1 : 0;
   current_.column_packet_index[c] = source.packet_index;
   current_.column_in_packet[c] = source.in_packet;
-  const auto& order = current_.laser_of_ring;
-  const int layers = current_.layers();
-  const double base_us = static_cast<double>(source.time_ns - current_.meta.first_time_ns) * 1e-3;
-  for (int ring = 0; ring < kLasers; ++ring) {
-    const std::size_t laser = order[ring];
-    const std::size_t i = current_.index(ring, col);
-    const auto offset_us =
-        static_cast<float>(base_us + static_cast<double>(laser) * (kFiringIntervalNs * 1e-3));
-    const float azimuth = column.azimuth_deg[laser];
-    for (int l = 0; l < layers; ++l) {
-      const LaserReturn& r = column.returns[static_cast<std::size_t>(l)][laser];
-      ReturnLayer& dst = current_.layer[l];
-      dst.range_m[i] = r.distance_m;
-      dst.x_m[i] = r.x_m;
-      dst.y_m[i] = r.y_m;
-      dst.z_m[i] = r.z_m;
-      dst.azimuth_deg[i] = azimuth;
-      dst.time_offset_us[i] = offset_us;
-      dst.intensity[i] = r.intensity;
-      dst.valid[i] = r.distance_m > 0.f ? 1 : 0;
-    }
-    current_.same_echo[i] = layers == 2 ? column.same_echo[laser] : 0;
-  }
 }
 
-void RotationAssembler::write_empty_column(int col, const ColumnSource& source) {
-  const auto c = static_cast<std::size_t>(col);
-  current_.column_azimuth_deg[c] = static_cast<float>(source.azimuth_deg);
-  current_.column_time_ns[c] = source.time_ns;
-  current_.column_valid[c] = 0;
-  current_.column_packet_index[c] = source.packet_index;
-  current_.column_in_packet[c] = source.in_packet;
+// Consecutive columns of one packet that land in consecutive frame columns are copied
+// together: a ring's cells are contiguous in both (DecodedPacket rows, Frame rows).
+void RotationAssembler::extend_pending_run(int col, const ColumnSource& source) {
+  PendingRun& run = pending_;
+  if (run.count > 0 && run.packet == source.packet && run.first_col + run.count == col &&
+      run.first_in_packet + run.count == source.in_packet) {
+    ++run.count;
+    return;
+  }
+  write_pending_run();
+  run = PendingRun{source.packet, source.in_packet, col, 1};
+}
+
+void RotationAssembler::write_pending_run() {
+  if (pending_.count == 0) return;
+  driver_detail::copy_packet_run(*pending_.packet, pending_.first_in_packet, pending_.count,
+                                 pending_.first_col, current_);
+  pending_.count = 0;
+}
+
+void RotationAssembler::write_empty_cells(int col, const ColumnSource& source) {
   const double base_us = static_cast<double>(source.time_ns - current_.meta.first_time_ns) * 1e-3;
   for (int ring = 0; ring < kLasers; ++ring) {
     const std::size_t laser = current_.laser_of_ring[ring];
@@ -310,6 +302,7 @@ void RotationAssembler::write_empty_column(int col, const ColumnSource& source) 
 
 // Moves the frame in progress (if it holds columns) to the ready FIFO.
 void RotationAssembler::finish_frame(bool complete, FrameEnd end) {
+  write_pending_run();
   if (current_.columns() == 0) return;
   FrameMeta& meta = current_.meta;
   const auto last = static_cast<std::size_t>(current_.columns() - 1);

@@ -161,18 +161,18 @@ struct Pipeline::Impl {
       update_capture_counters();
       if (status == ReadStatus::end_of_input || status == ReadStatus::stopped) return;
       if (status != ReadStatus::frame) continue;
-      {
-        std::lock_guard lock(stats_mutex);
-        ++counters.frames_assembled;
-      }
       bool dropped = false;
       filling = queue.push(filling, drop, dropped);
+      std::uint64_t total_dropped = 0;
+      {
+        // Counted once queued, so a reader of the stats never sees a frame that is neither
+        // in the queue nor counted as dropped.
+        std::lock_guard lock(stats_mutex);
+        ++counters.frames_assembled;
+        total_dropped = dropped ? ++counters.frames_dropped : counters.frames_dropped;
+      }
       if (dropped) {
-        std::uint64_t total = 0;
-        {
-          std::lock_guard lock(stats_mutex);
-          total = ++counters.frames_dropped;
-        }
+        const std::uint64_t total = total_dropped;
         diagnose(DiagnosticKind::frame_dropped,
                  "detector behind: dropped the oldest pending frame (" + std::to_string(total) +
                      " dropped so far)");

@@ -27,8 +27,8 @@ class AssemblerHarness {
   void push(const DecodedPacket& p, std::int64_t steady_ns = -1, bool expect_skip = false) {
     if (!expect_skip) {
       for (int c = 0; c < p.column_count; ++c) {
-        const auto& col = p.columns[static_cast<std::size_t>(c)];
-        sent.push_back({col.time_ns, p.packet_index, c, true, col.azimuth_deg[0]});
+        sent.push_back({p.column_time_ns[static_cast<std::size_t>(c)], p.packet_index, c, true,
+                        p.azimuth(c, 0)});
       }
     }
     if (assembler.push(p, out, steady_ns)) take();

@@ -30,7 +30,7 @@ void decode_assemble(benchmark::State& state, ReturnMode mode) {
           DecodeStatus::ok) {
         decoded.time_ns += lap * count * period;
         for (int c = 0; c < decoded.column_count; ++c) {
-          decoded.columns[static_cast<std::size_t>(c)].time_ns += lap * count * period;
+          decoded.column_time_ns[static_cast<std::size_t>(c)] += lap * count * period;
         }
         if (assembler.push(decoded, out)) ++frames;
         while (assembler.pop(out)) ++frames;

@@ -34,21 +34,22 @@ void SyntheticStream::next(DecodedPacket& out) {
   out.packet_index = packet_index_++;
   out.first_azimuth_centideg = static_cast<std::uint16_t>(wrap(azimuth_deg_) * 100.f) % 36000;
   for (int c = 0; c < out.column_count; ++c) {
-    FiringColumn& col = out.columns[static_cast<std::size_t>(c)];
-    col.time_ns = time_ns_;
+    const auto uc = static_cast<std::size_t>(c);
+    out.column_time_ns[uc] = time_ns_;
     for (int laser = 0; laser < kLasers; ++laser) {
       const auto l = static_cast<std::size_t>(laser);
-      col.azimuth_deg[l] =
+      out.azimuth_deg[l][uc] =
           wrap(azimuth_deg_ + deg_per_ns() * static_cast<double>(laser * kFiringIntervalNs));
       for (int layer = 0; layer < 2; ++layer) {
-        LaserReturn& r = col.returns[static_cast<std::size_t>(layer)][l];
-        r.distance_m = distance_of(global_column_, laser, layer);
-        r.x_m = r.distance_m * 0.5f;
-        r.y_m = static_cast<float>(laser);
-        r.z_m = static_cast<float>(layer);
-        r.intensity = static_cast<std::uint8_t>(laser * 10 + layer);
+        PacketLayer& dst = out.layer[static_cast<std::size_t>(layer)];
+        const float distance = distance_of(global_column_, laser, layer);
+        dst.distance_m[l][uc] = distance;
+        dst.x_m[l][uc] = distance * 0.5f;
+        dst.y_m[l][uc] = static_cast<float>(laser);
+        dst.z_m[l][uc] = static_cast<float>(layer);
+        dst.intensity[l][uc] = static_cast<std::uint8_t>(laser * 10 + layer);
       }
-      col.same_echo[l] = static_cast<std::uint8_t>((l + global_column_) % 2);
+      out.same_echo[l][uc] = static_cast<std::uint8_t>((l + global_column_) % 2);
     }
     advance_column();
   }

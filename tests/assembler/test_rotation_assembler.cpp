@@ -296,7 +296,7 @@ TEST_CASE("a FOV-restricted sensor gives complete frames with columns outside th
   DecodedPacket p;
   for (int i = 0; i < packets_for(6.0, 600, ReturnMode::strongest); ++i) {
     s.next(p);
-    const double az = p.columns[0].azimuth_deg[0];
+    const double az = p.azimuth(0, 0);
     if (az >= 90.0 && az < 270.0) h.push(p);
   }
   h.flush();

@@ -51,27 +51,29 @@ TEST_CASE("round trip: encoded fields come back with manual geometry", "[decoder
   const auto& model = decoder.sensor_model(Model::vlp16);
   for (int b = 0; b < 12; ++b) {
     for (int ch = 0; ch < 32; ++ch) {
-      const auto& col = out.columns[static_cast<std::size_t>(2 * b + ch / 16)];
-      const auto k = static_cast<std::size_t>(ch % 16);
-      const auto& r = col.returns[kStrongestLayer][k];
+      const int column = 2 * b + ch / 16;
+      const int k = ch % 16;
+      const LaserReturn r = out.at(kStrongestLayer, column, k);
       const auto ub = static_cast<std::size_t>(b);
       const auto uch = static_cast<std::size_t>(ch);
       const double range = fields.distance_2mm[ub][uch] * 0.002;
       const double azimuth = (12'345 + 40 * b + 40 * gap_fraction(ch)) / 100.0;
-      const double w = model.lasers[k].elevation_deg * M_PI / 180.0;
+      const double w = model.lasers[static_cast<std::size_t>(k)].elevation_deg * M_PI / 180.0;
       const double a = azimuth * M_PI / 180.0;
       CHECK(r.distance_m == Approx(range).margin(1e-6));
       CHECK(r.intensity == fields.reflectivity[ub][uch]);
-      CHECK(col.azimuth_deg[k] == Approx(azimuth).margin(1e-4));
+      CHECK(out.azimuth(column, k) == Approx(azimuth).margin(1e-4));
       CHECK(r.x_m == Approx(range * std::cos(w) * std::cos(a)).margin(1e-5));
       CHECK(r.y_m == Approx(-range * std::cos(w) * std::sin(a)).margin(1e-5));
-      CHECK(r.z_m == Approx(range * std::sin(w) + model.lasers[k].vertical_offset_m).margin(1e-5));
-      CHECK(col.returns[kLastLayer][k].distance_m == 0.f);
+      CHECK(r.z_m == Approx(range * std::sin(w) +
+                            model.lasers[static_cast<std::size_t>(k)].vertical_offset_m)
+                         .margin(1e-5));
+      CHECK(out.at(kLastLayer, column, k).distance_m == 0.f);
     }
   }
   // Firing times: the column is laser 0 of sequence s = 2b + ch/16, 55.296 us apart.
   for (std::size_t s = 1; s < 24; ++s) {
-    CHECK(out.columns[s].time_ns - out.columns[0].time_ns == static_cast<std::int64_t>(s) * 55'296);
+    CHECK(out.column_time_ns[s] - out.column_time_ns[0] == static_cast<std::int64_t>(s) * 55'296);
   }
 }
 
@@ -83,12 +85,11 @@ TEST_CASE("azimuth wraps at 0 degrees without losing records", "[decoder]") {
   double previous = -1.0;
   int crossings = 0;
   for (int s = 0; s < out.column_count; ++s) {
-    for (std::size_t k = 0; k < 16; ++k) {
-      const auto& col = out.columns[static_cast<std::size_t>(s)];
-      const double a = col.azimuth_deg[k];
+    for (int k = 0; k < 16; ++k) {
+      const double a = out.azimuth(s, k);
       CHECK(a >= 0.0);
       CHECK(a < 360.0);
-      CHECK(col.returns[kStrongestLayer][k].distance_m > 0.f);
+      CHECK(out.at(kStrongestLayer, s, k).distance_m > 0.f);
       if (previous >= 0.0) {
         const double step = a - previous + (a < previous ? 360.0 : 0.0);
         crossings += a < previous ? 1 : 0;
@@ -100,7 +101,7 @@ TEST_CASE("azimuth wraps at 0 degrees without losing records", "[decoder]") {
   }
   CHECK(crossings == 1);
   // Block 2 (359.80 deg) interpolates across the wrap with its 40-centidegree gap.
-  CHECK(out.columns[5].azimuth_deg[15] ==
+  CHECK(out.azimuth(5, 15) ==
         Approx((35'980 + 40 * gap_fraction(31)) / 100.0 - 360.0).margin(1e-4));
 }
 
@@ -112,11 +113,10 @@ TEST_CASE("last block uses the packet's mean rate, never a zero gap", "[decoder]
   REQUIRE(decoder.decode(encode(fields), 0, out) == DecodeStatus::ok);
   const double mean_gap = (fields.azimuth_centideg[11] - fields.azimuth_centideg[0]) / 11.0;
   for (int ch = 0; ch < 32; ++ch) {
-    const auto& col = out.columns[static_cast<std::size_t>(22 + ch / 16)];
-    CHECK(col.azimuth_deg[static_cast<std::size_t>(ch % 16)] ==
+    CHECK(out.azimuth(22 + ch / 16, ch % 16) ==
           Approx((fields.azimuth_centideg[11] + mean_gap * gap_fraction(ch)) / 100.0).margin(1e-4));
   }
-  CHECK(out.columns[23].azimuth_deg[15] > out.columns[22].azimuth_deg[0] + 0.3);
+  CHECK(out.azimuth(23, 15) > out.azimuth(22, 0) + 0.3);
 }
 
 TEST_CASE("dual return: even block is last, odd strongest, timing per pair", "[decoder]") {
@@ -133,21 +133,22 @@ TEST_CASE("dual return: even block is last, odd strongest, timing per pair", "[d
   for (int pair = 0; pair < 6; ++pair) {
     const auto even = static_cast<std::size_t>(2 * pair);
     for (int ch = 0; ch < 32; ++ch) {
-      const auto s = static_cast<std::size_t>(2 * pair + ch / 16);  // s = (b - b%2) + ch/16
-      const auto k = static_cast<std::size_t>(ch % 16);
+      const int s = 2 * pair + ch / 16;  // s = (b - b%2) + ch/16
+      const int k = ch % 16;
       const auto uch = static_cast<std::size_t>(ch);
-      const auto& col = out.columns[s];
-      CHECK(col.time_ns - out.columns[0].time_ns == static_cast<std::int64_t>(s) * 55'296);
-      CHECK(col.returns[kLastLayer][k].distance_m ==
+      CHECK(out.column_time_ns[static_cast<std::size_t>(s)] - out.column_time_ns[0] ==
+            static_cast<std::int64_t>(s) * 55'296);
+      CHECK(out.at(kLastLayer, s, k).distance_m ==
             Approx(fields.distance_2mm[even][uch] * 0.002).margin(1e-6));
-      CHECK(col.returns[kStrongestLayer][k].distance_m ==
+      CHECK(out.at(kStrongestLayer, s, k).distance_m ==
             Approx(fields.distance_2mm[even + 1][uch] * 0.002).margin(1e-6));
-      CHECK(col.returns[kLastLayer][k].intensity == fields.reflectivity[even][uch]);
+      CHECK(out.at(kLastLayer, s, k).intensity == fields.reflectivity[even][uch]);
       // Both layers share the azimuth; the gap is to the next pair (40 centidegrees).
       const double gap = 40.0;
-      CHECK(col.azimuth_deg[k] ==
+      CHECK(out.azimuth(s, k) ==
             Approx((20'000 + 40 * pair + gap * gap_fraction(ch)) / 100.0).margin(1e-4));
-      CHECK(col.same_echo[k] == ((pair == 0 && ch == 3) ? 1 : 0));
+      CHECK(out.same_echo[static_cast<std::size_t>(k)][static_cast<std::size_t>(s)] ==
+            ((pair == 0 && ch == 3) ? 1 : 0));
     }
   }
 }
@@ -159,10 +160,10 @@ TEST_CASE("azimuth 36000, sent by real sensors, is 0 degrees", "[decoder]") {
   REQUIRE(decoder.decode(encode(fields), 0, reference) == DecodeStatus::ok);
   fields.azimuth_centideg[1] = 36'000;  // instead of 0
   REQUIRE(decoder.decode(encode(fields), 0, out) == DecodeStatus::ok);
-  for (std::size_t s = 0; s < 24; ++s) {
-    for (std::size_t k = 0; k < 16; ++k) {
-      CHECK(out.columns[s].azimuth_deg[k] == reference.columns[s].azimuth_deg[k]);
-      CHECK(out.columns[s].returns[0][k].x_m == reference.columns[s].returns[0][k].x_m);
+  for (int s = 0; s < 24; ++s) {
+    for (int k = 0; k < 16; ++k) {
+      CHECK(out.azimuth(s, k) == reference.azimuth(s, k));
+      CHECK(out.at(0, s, k).x_m == reference.at(0, s, k).x_m);
     }
   }
 }
@@ -171,14 +172,14 @@ TEST_CASE("single return after dual clears the last-return layer", "[decoder]") 
   PacketDecoder decoder;
   DecodedPacket out;
   REQUIRE(decoder.decode(encode(ramp_fields(0, 40, kModeDual)), 0, out) == DecodeStatus::ok);
-  REQUIRE(out.columns[0].returns[kLastLayer][0].distance_m > 0.f);
+  REQUIRE(out.at(kLastLayer, 0, 0).distance_m > 0.f);
   REQUIRE(decoder.decode(encode(ramp_fields(0, 40, kModeLast)), 0, out) == DecodeStatus::ok);
   CHECK(out.mode == ReturnMode::last);
-  for (const auto& col : out.columns) {
-    for (std::size_t k = 0; k < 16; ++k) {
-      CHECK(col.returns[kLastLayer][k].distance_m == 0.f);
-      CHECK(col.same_echo[k] == 0);
-      CHECK(col.returns[kStrongestLayer][k].distance_m > 0.f);  // the only return: layer 0
+  for (int s = 0; s < out.column_count; ++s) {
+    for (int k = 0; k < 16; ++k) {
+      CHECK(out.at(kLastLayer, s, k).distance_m == 0.f);
+      CHECK(out.same_echo[static_cast<std::size_t>(k)][static_cast<std::size_t>(s)] == 0);
+      CHECK(out.at(kStrongestLayer, s, k).distance_m > 0.f);  // the only return: layer 0
     }
   }
 }
@@ -244,7 +245,7 @@ TEST_CASE("product byte selects the model unless forced", "[decoder]") {
   CHECK(out.model == Model::vlp16);
   CHECK(forced.counters().product_mismatch == 0);
   // Laser 0 at -15 deg (VLP-16), not -10 deg (Hi-Res).
-  const auto& r = out.columns[0].returns[kStrongestLayer][0];
+  const LaserReturn r = out.at(kStrongestLayer, 0, 0);
   CHECK(std::asin((r.z_m - 0.0112) / r.distance_m) * 180.0 / M_PI == Approx(-15.0).margin(1e-3));
 }
 

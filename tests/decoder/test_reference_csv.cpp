@@ -66,8 +66,10 @@ void check_capture(const std::string& stem, ReturnMode expected_mode, Model expe
     REQUIRE(packets[i].model == expected_model);
     REQUIRE(packets[i].packet_index == i);
     for (int c = 0; c < packets[i].column_count; ++c) {
-      for (const auto& layer : packets[i].columns[static_cast<std::size_t>(c)].returns) {
-        for (const auto& r : layer) returns_decoded += r.distance_m > 0.f ? 1 : 0;
+      for (int layer = 0; layer < 2; ++layer) {
+        for (int laser = 0; laser < kLasers; ++laser) {
+          returns_decoded += packets[i].at(layer, c, laser).distance_m > 0.f ? 1U : 0U;
+        }
       }
     }
   }
@@ -88,16 +90,18 @@ void check_capture(const std::string& stem, ReturnMode expected_mode, Model expe
         dual ? row.block - row.block % 2 + row.channel / 16 : 2 * row.block + row.channel / 16;
     const int layer = dual && row.block % 2 == 0 ? kLastLayer : kStrongestLayer;
     if (dual) REQUIRE(row.ret == (layer == kLastLayer ? 1 : 0));
-    const auto& column = packet.columns.at(static_cast<std::size_t>(sequence));
-    const auto laser = static_cast<std::size_t>(row.channel % 16);
-    REQUIRE(static_cast<int>(laser) == row.laser_id);
-    const auto& r = column.returns[static_cast<std::size_t>(layer)][laser];
+    REQUIRE(sequence < packet.column_count);
+    const int laser = row.channel % 16;
+    REQUIRE(laser == row.laser_id);
+    const LaserReturn r = packet.at(layer, sequence, laser);
+    const float azimuth = packet.azimuth(sequence, laser);
+    const std::int64_t column_time_ns = packet.column_time_ns[static_cast<std::size_t>(sequence)];
     const double time_us =
-        static_cast<double>(column.time_ns + row.laser_id * kFiringIntervalNs - kTopOfHourNs) /
+        static_cast<double>(column_time_ns + row.laser_id * kFiringIntervalNs - kTopOfHourNs) /
         1000.0;
     worst_time = std::max(worst_time, std::abs(time_us - row.timestamp_us));
     worst_range = std::max(worst_range, std::abs(r.distance_m - row.distance_m));
-    const double azimuth_error = angle_difference_deg(column.azimuth_deg[laser], row.azimuth_deg);
+    const double azimuth_error = angle_difference_deg(azimuth, row.azimuth_deg);
     const double xyz_error =
         std::max({std::abs(r.x_m - row.x), std::abs(r.y_m - row.y), std::abs(r.z_m - row.z)});
     const bool last_group = row.block >= kBlocksPerPacket - (dual ? 2 : 1);
@@ -107,7 +111,7 @@ void check_capture(const std::string& stem, ReturnMode expected_mode, Model expe
     } else {
       worst_last_azimuth = std::max(worst_last_azimuth, azimuth_error);
       // The reference point rotated to the decoder's azimuth.
-      const double a = column.azimuth_deg[laser] * M_PI / 180.0;
+      const double a = azimuth * M_PI / 180.0;
       const double horizontal = std::hypot(row.x, row.y);
       worst_last_xyz =
           std::max({worst_last_xyz, std::abs(r.x_m - horizontal * std::cos(a)),

@@ -34,19 +34,17 @@ void check_roundtrip(const SimConfig& config) {
     CHECK(std::llabs(decoded->time_ns - packet->time_ns) < 1000);
     if (k == 0) continue;  // the first packet's last block has no measured rotation rate yet
     for (int col = 0; col < decoded->column_count; ++col) {
-      const FiringColumn& column = decoded->columns[static_cast<std::size_t>(col)];
+      const std::int64_t column_time_ns = decoded->column_time_ns[static_cast<std::size_t>(col)];
       for (int laser = 0; laser < kLasers; ++laser) {
         for (int layer = 0; layer < (dual ? 2 : 1); ++layer) {
           // Wire slot of this firing: single block = col / 2; dual even block = last.
           const int block = dual ? 2 * (col / 2) + (layer == kLastLayer ? 0 : 1) : col / 2;
           const int channel = (col % 2) * 16 + laser;
           const SlotTruth& truth = packet->truth[static_cast<std::size_t>(block * 32 + channel)];
-          const LaserReturn& r =
-              column.returns[static_cast<std::size_t>(layer)][static_cast<std::size_t>(laser)];
-          const auto lz = static_cast<std::size_t>(laser);
-          CHECK(std::llabs(column.time_ns + laser * kFiringIntervalNs - truth.time_ns) < 1000);
+          const LaserReturn r = decoded->at(layer, col, laser);
+          CHECK(std::llabs(column_time_ns + laser * kFiringIntervalNs - truth.time_ns) < 1000);
           // Block azimuth rounding (0.005) plus the rounded gap spread over the block.
-          REQUIRE(angle_diff_deg(column.azimuth_deg[lz], truth.azimuth_deg) < 0.015);
+          REQUIRE(angle_diff_deg(decoded->azimuth(col, laser), truth.azimuth_deg) < 0.015);
           if (truth.range_m == 0.0) {
             REQUIRE(r.distance_m == 0.f);
             continue;

@@ -62,7 +62,7 @@ struct LatencyStats {
 };
 
 struct PipelineStats {
-  std::uint64_t frames_assembled = 0;  // frames produced by the reader
+  std::uint64_t frames_assembled = 0;  // frames produced by the reader (counted once queued)
   std::uint64_t frames_delivered = 0;  // callbacks invoked (exception or not)
   std::uint64_t frames_dropped = 0;    // dropped by the drop-oldest policy
   std::uint64_t callback_exceptions = 0;

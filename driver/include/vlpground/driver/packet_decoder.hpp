@@ -8,6 +8,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -23,25 +24,36 @@ inline constexpr std::size_t kPositionPacketBytes = 512;
 inline constexpr int kBlocksPerPacket = 12;
 inline constexpr int kMaxColumnsPerPacket = 24;
 
-/// One return of one laser.
+/// One return of one laser (a convenience view; DecodedPacket stores structure of arrays).
 struct LaserReturn {
   float distance_m = 0.f;  // 0 = no return
   float x_m = 0.f, y_m = 0.f, z_m = 0.f;
   std::uint8_t intensity = 0;
 };
 
-/// One firing sequence: 16 lasers fired 2.304 us apart.
-struct FiringColumn {
-  std::int64_t time_ns = 0;                  // absolute time of laser 0's firing
-  std::array<float, kLasers> azimuth_deg{};  // per laser id, interpolated, [0, 360)
-  // [kStrongestLayer]: strongest (or the only) return; [kLastLayer]: last return (dual).
-  std::array<std::array<LaserReturn, kLasers>, 2> returns{};
-  std::array<std::uint8_t, kLasers> same_echo{};  // dual: both layers hold the same echo
+/// Per-laser rows over the columns of one packet: `rows[laser][column]`, laser id in firing
+/// order. Row-major by laser so that a ring's cells of consecutive columns are contiguous,
+/// as in the range image they are copied into.
+template <class T>
+using LaserRows = std::array<std::array<T, kMaxColumnsPerPacket>, kLasers>;
+
+/// One return layer of a packet.
+struct PacketLayer {
+  LaserRows<float> distance_m{};  // 0 = no return
+  LaserRows<float> x_m{}, y_m{}, z_m{};
+  LaserRows<std::uint8_t> intensity{};
 };
 
+/// The firing columns of one packet (a column = one firing sequence of 16 lasers, 2.304 us
+/// apart), structure of arrays.
 struct DecodedPacket {
-  std::array<FiringColumn, kMaxColumnsPerPacket> columns{};
-  int column_count = 0;  // 24 single-return, 12 dual
+  int column_count = 0;                                             // 24 single-return, 12 dual
+  std::array<std::int64_t, kMaxColumnsPerPacket> column_time_ns{};  // laser 0's firing
+  LaserRows<float> azimuth_deg{};  // [laser][column], interpolated, [0, 360)
+  // [kStrongestLayer]: strongest (or the only) return; [kLastLayer]: last return (dual).
+  std::array<PacketLayer, 2> layer{};
+  LaserRows<std::uint8_t> same_echo{};  // dual: both layers hold the same echo
+
   ReturnMode mode = ReturnMode::strongest;
   Model model = Model::vlp16;  // model used to decode
   std::uint8_t product_byte = 0;
@@ -52,6 +64,18 @@ struct DecodedPacket {
   // 0-based index of this packet among all packets given to PacketDecoder::decode()
   // (the k-th data packet of a capture); ground-truth files are indexed by it.
   std::uint64_t packet_index = 0;
+
+  /// Return of `laser` in `column` of `layer_index` (kStrongestLayer / kLastLayer).
+  [[nodiscard]] LaserReturn at(int layer_index, int column, int laser) const {
+    const auto& l = layer[static_cast<std::size_t>(layer_index)];
+    const auto k = static_cast<std::size_t>(laser);
+    const auto c = static_cast<std::size_t>(column);
+    return {l.distance_m[k][c], l.x_m[k][c], l.y_m[k][c], l.z_m[k][c], l.intensity[k][c]};
+  }
+  /// Azimuth of `laser`'s firing in `column`, degrees.
+  [[nodiscard]] float azimuth(int column, int laser) const {
+    return azimuth_deg[static_cast<std::size_t>(laser)][static_cast<std::size_t>(column)];
+  }
 };
 
 enum class DecodeStatus : std::uint8_t {
@@ -85,6 +109,9 @@ struct DecoderConfig {
 class PacketDecoder {
  public:
   explicit PacketDecoder(const DecoderConfig& config = {});
+  ~PacketDecoder();
+  PacketDecoder(PacketDecoder&&) noexcept;
+  PacketDecoder& operator=(PacketDecoder&&) noexcept;
 
   /// Decodes `bytes` received at `receive_ns` (pcap record time or host clock, ns since the
   /// epoch) into `out`. Never throws, never allocates; a malformed packet is a status and a
@@ -111,6 +138,7 @@ class PacketDecoder {
   [[nodiscard]] int warning_count() const { return warning_count_; }
 
  private:
+  struct Constants;  // per-model decode constants (column_decoding.hpp)
   enum class Family : std::uint8_t { unknown, vlp16, other };
   void judge_timing(std::uint32_t stamp_us);
   Model choose_model(std::uint8_t product_byte);
@@ -119,6 +147,7 @@ class PacketDecoder {
 
   DecoderConfig config_;
   SensorModel vlp16_, hires_;
+  std::unique_ptr<Constants> constants_;
   DecoderCounters counters_;
   std::string last_warning_;
   int warning_count_ = 0;

@@ -103,8 +103,10 @@ class RotationAssembler {
   struct ColumnSource;
   void handle_gap(const DecodedPacket& packet, std::int64_t delta_ns);
   void add_column(const ColumnSource& source);
-  void write_real_column(int col, const ColumnSource& source);
-  void write_empty_column(int col, const ColumnSource& source);
+  void write_column_header(int col, const ColumnSource& source);
+  void extend_pending_run(int col, const ColumnSource& source);
+  void write_pending_run();
+  void write_empty_cells(int col, const ColumnSource& source);
   void begin_frame(const ColumnSource& source, bool at_cut);
   void finish_frame(bool complete, FrameEnd end);
   void restart_stream();
@@ -131,6 +133,15 @@ class RotationAssembler {
   double rate_deg_per_ns_ = 0.0;
   bool have_gap_ = false;  // previous gap's azimuths, to recognise a FOV sector
   double gap_start_deg_ = 0.0, gap_end_deg_ = 0.0;
+
+  // Columns of the packet being pushed whose cells are not yet copied into current_.
+  struct PendingRun {
+    const DecodedPacket* packet = nullptr;
+    int first_in_packet = 0;
+    int first_col = 0;  // frame column of the first
+    int count = 0;
+  };
+  PendingRun pending_;
 
   // Frame-in-progress state.
   bool frame_at_cut_ = false;     // started at a cut (else a partial start)
