@@ -3,6 +3,8 @@
 #include <array>
 #include <cstring>
 
+#include "vector_clones.hpp"
+
 namespace vlpground::driver_detail {
 
 namespace {
@@ -75,6 +77,7 @@ void copy_run(const DecodedPacket& packet, const RunShape& run, Frame& frame) {
 
 }  // namespace
 
+VLPGROUND_VECTOR_CLONES
 void copy_packet_run(const DecodedPacket& packet, int first_in_packet, int count, int first_col,
                      Frame& frame) {
   const RunShape run{static_cast<std::size_t>(first_in_packet), static_cast<std::size_t>(count),
