@@ -85,6 +85,11 @@ struct CaptureReader::Impl {
   bool handle_data(Frame& out) {
     const DecodeStatus status = decoder.decode(view.bytes, view.receive_ns, decoded);
     if (status != DecodeStatus::ok) {
+      // The first packets of another sensor family decode before the timing verdict: drop
+      // the frame they started.
+      if (status == DecodeStatus::not_vlp16 && decoder.counters().not_vlp16 == 1) {
+        assembler.discard_frame();
+      }
       assembler.note_skipped_packet();
       check_warnings();
       return false;

@@ -365,6 +365,17 @@ bool RotationAssembler::expire(std::int64_t steady_now_ns, Frame& out) {
   return deliver(out);
 }
 
+void RotationAssembler::discard_frame() {
+  pending_.count = 0;
+  const std::uint32_t used = current_.meta.packets_used;
+  counters_.packets_used -= std::min<std::uint64_t>(counters_.packets_used, used);
+  counters_.discarded_packets += used;
+  const std::uint32_t skipped = current_.meta.packets_skipped;
+  current_.clear();
+  current_.meta.packets_skipped = skipped + used;
+  restart_stream();
+}
+
 void RotationAssembler::note_skipped_packet() {
   ++counters_.skipped_upstream;
   ++current_.meta.packets_skipped;

@@ -327,3 +327,31 @@ TEST_CASE("assembler config is validated", "[assembler]") {
   c.silence_timeout_ms = 0;
   CHECK_THROWS_AS(c.validate(), std::invalid_argument);
 }
+
+TEST_CASE("discard_frame throws away the frame in progress and accounts for its packets",
+          "[assembler]") {
+  AssemblerHarness h;
+  SyntheticStream s(600, ReturnMode::strongest, 10.0);
+  DecodedPacket p;
+  const int before = 5;  // well inside the first rotation: no frame completes
+  for (int i = 0; i < before; ++i) {
+    s.next(p);
+    h.assembler.push(p, h.out);
+  }
+  h.assembler.discard_frame();
+  CHECK(h.assembler.counters().packets_used == 0);
+  CHECK(h.assembler.counters().discarded_packets == before);
+  // The stream restarts: later packets form frames of their own, none holding the discarded.
+  const int after = packets_for(1.5, 600, ReturnMode::strongest);
+  for (int i = 0; i < after; ++i) {
+    s.next(p);
+    h.push(p);
+  }
+  h.flush();
+  CHECK(h.emitted_valid() == h.sent);
+  CHECK(h.assembler.counters().packets_used == static_cast<std::uint64_t>(after));
+  CHECK(h.assembler.counters().packets_skipped() == static_cast<std::uint64_t>(before));
+  std::uint64_t skipped_in_frames = 0;
+  for (const auto& m : h.metas) skipped_in_frames += m.packets_skipped;
+  CHECK(skipped_in_frames == static_cast<std::uint64_t>(before));
+}

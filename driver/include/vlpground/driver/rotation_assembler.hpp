@@ -56,10 +56,12 @@ struct AssemblerCounters {
   std::uint64_t stream_changes = 0;      // mode/model change or time jumping backwards
   std::uint64_t azimuth_jumps = 0;       // firing-to-firing steps > 10 deg (frame incomplete)
   std::uint64_t frames_dropped = 0;      // ready frames overwritten because pop() was not called
+  std::uint64_t discarded_packets = 0;   // used in a frame that discard_frame() threw away
 
   /// Every data packet given to push() or note_skipped_packet() is in exactly one of these.
   [[nodiscard]] std::uint64_t packets_skipped() const {
-    return duplicate_packets + reordered_packets + off_grid_packets + skipped_upstream;
+    return duplicate_packets + reordered_packets + off_grid_packets + skipped_upstream +
+           discarded_packets;
   }
 };
 
@@ -90,6 +92,11 @@ class RotationAssembler {
   /// Flushes the frame in progress (marked incomplete, end = silence) when no packet came for
   /// longer than the silence timeout before `steady_now_ns`. Returns true when it emitted.
   bool expire(std::int64_t steady_now_ns, Frame& out);
+
+  /// Throws away the frame in progress (not emitted) and restarts the stream: for packets
+  /// found afterwards not to be VLP-16 data. Its packets move from packets_used to
+  /// discarded_packets.
+  void discard_frame();
 
   /// Counts a packet skipped upstream (malformed, filtered) against the frame in progress.
   void note_skipped_packet();
