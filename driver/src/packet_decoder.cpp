@@ -106,6 +106,7 @@ void PacketDecoder::set_gps_hour_reference(std::int64_t top_of_hour_ns) {
   gps_reference_ = true;
   gps_anchor_pending_ = true;
   gps_top_of_hour_ns_ = top_of_hour_ns;
+  reference_changed_ = true;
 }
 
 bool PacketDecoder::set_gps_time_reference(const PositionPacket& position) {
@@ -118,6 +119,7 @@ bool PacketDecoder::set_gps_time_reference(const PositionPacket& position) {
   gps_anchor_ns_ = nearest_hour_time(stamp_ns, position.gprmc.utc_ns());
   gps_reference_ = true;
   gps_anchor_pending_ = false;
+  reference_changed_ = true;
   return true;
 }
 
@@ -235,6 +237,17 @@ DecodeStatus PacketDecoder::decode(std::span<const std::uint8_t> bytes, std::int
   out.model = choose_model(out.product_byte);
   out.stamp_us_past_hour = stamp_us;
   out.time_ns = resolve_time_ns(stamp_us, receive_ns);
+  out.time_rebase_ns = 0;
+  if (reference_changed_ && have_resolved_) {
+    // Continuity with the previous packet predicts the hour; a new reference that disagrees
+    // moves time by whole hours (host clock to GPS clock).
+    const std::int64_t continuous =
+        nearest_hour_time(std::int64_t{stamp_us} * 1000, last_resolved_ns_);
+    out.time_rebase_ns = out.time_ns - continuous;
+  }
+  reference_changed_ = false;
+  have_resolved_ = true;
+  last_resolved_ns_ = out.time_ns;
   out.first_azimuth_centideg = static_cast<std::uint16_t>(block_azimuth(p));
   out.column_count = dual ? kBlocksPerPacket : kMaxColumnsPerPacket;
   driver_detail::decode_columns(p, constants_->by_model[static_cast<std::size_t>(out.model)], dual,

@@ -90,6 +90,7 @@ bool RotationAssembler::push(const DecodedPacket& packet, Frame& out,
   }
   const std::int64_t steady = steady_receive_ns >= 0 ? steady_receive_ns : packet.receive_ns;
   const auto silence_ns = static_cast<std::int64_t>(config_.silence_timeout_ms * 1e6);
+  if (have_packet_ && packet.time_rebase_ns != 0) rebase_time(packet.time_rebase_ns);
   if (have_packet_) {
     const std::int64_t period = packet_period_ns(packet.mode);
     const std::int64_t delta = packet.time_ns - last_packet_time_ns_;
@@ -190,6 +191,19 @@ void RotationAssembler::handle_gap(const DecodedPacket& packet, std::int64_t del
     add_column(ColumnSource{nullptr, start_ns + k * kSequencePeriodNs,
                             wrap_deg(start_az + advance * f), kNoPacketIndex, kNoColumnInPacket,
                             fov});
+  }
+}
+
+// The hour reference changed under a continuous stream: earlier times move with it, so the
+// frame in progress continues on the new clock (time offsets are relative: unchanged).
+void RotationAssembler::rebase_time(std::int64_t shift_ns) {
+  ++counters_.clock_rebases;
+  last_packet_time_ns_ += shift_ns;
+  last_seen_time_ns_ += shift_ns;
+  last_column_time_ns_ += shift_ns;
+  current_.meta.first_time_ns += shift_ns;
+  for (int c = 0; c < current_.columns(); ++c) {
+    current_.column_time_ns[static_cast<std::size_t>(c)] += shift_ns;
   }
 }
 

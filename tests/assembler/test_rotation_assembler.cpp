@@ -355,3 +355,34 @@ TEST_CASE("discard_frame throws away the frame in progress and accounts for its 
   for (const auto& m : h.metas) skipped_in_frames += m.packets_skipped;
   CHECK(skipped_in_frames == static_cast<std::uint64_t>(before));
 }
+
+TEST_CASE("a re-based clock moves the frame in progress instead of splitting it", "[assembler]") {
+  AssemblerHarness h;
+  SyntheticStream s(600, ReturnMode::strongest, 10.0);
+  DecodedPacket p;
+  const std::int64_t shift = -7 * 3'600'000'000'000;  // host clock to GPS clock
+  const int total = packets_for(2.5, 600, ReturnMode::strongest);
+  const int switch_at = 20;  // inside the first partial rotation
+  for (int i = 0; i < total; ++i) {
+    s.next(p);
+    if (i >= switch_at) {
+      p.time_ns += shift;
+      for (int c = 0; c < p.column_count; ++c)
+        p.column_time_ns[static_cast<std::size_t>(c)] += shift;
+    }
+    p.time_rebase_ns = i == switch_at ? shift : 0;
+    h.push(p);
+  }
+  h.flush();
+  CHECK(h.assembler.counters().clock_rebases == 1);
+  CHECK(h.assembler.counters().stream_changes == 0);
+  CHECK(h.assembler.counters().silences == 0);
+  REQUIRE(h.metas.size() == 3);  // partial, complete, partial: no extra split
+  CHECK(h.metas[1].complete);
+  // Every frame is on the new clock, columns included, and time runs forward within it.
+  for (std::size_t f = 0; f < h.frames.size(); ++f) {
+    const auto& cols = h.frames[f];
+    CHECK(h.metas[f].first_time_ns == cols.front().time_ns);
+    for (std::size_t c = 1; c < cols.size(); ++c) CHECK(cols[c].time_ns > cols[c - 1].time_ns);
+  }
+}

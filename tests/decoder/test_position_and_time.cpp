@@ -197,3 +197,25 @@ TEST_CASE("sim capture: pcap clock and GPS give the same absolute time", "[decod
   CHECK(a.time_ns == kTopOfHourNs + kSecond);  // one second after 22:00:00 UTC
   CHECK(b.time_ns == a.time_ns);
 }
+
+TEST_CASE("a GPS hour unlike the host clock's re-bases time by whole hours, once",
+          "[decoder][time]") {
+  PacketDecoder decoder;
+  DecodedPacket out;
+  // Host clock five hours and a bit off the sensor's GPS time.
+  const std::int64_t host_ns = kTopOfHourNs + 5 * kHour + 1'000'000'000;
+  REQUIRE(decoder.decode(data_packet(1'000'000), host_ns, out) == DecodeStatus::ok);
+  CHECK(out.time_rebase_ns == 0);
+  const std::int64_t before = out.time_ns;
+  decoder.set_gps_hour_reference(kTopOfHourNs);
+  REQUIRE(decoder.decode(data_packet(1'001'327), host_ns, out) == DecodeStatus::ok);
+  CHECK(out.time_ns == kTopOfHourNs + 1'001'327'000);
+  CHECK(out.time_rebase_ns == -5 * kHour);
+  CHECK(out.time_ns - out.time_rebase_ns - before == 1'327'000);  // the stamps stay continuous
+  REQUIRE(decoder.decode(data_packet(1'002'654), host_ns, out) == DecodeStatus::ok);
+  CHECK(out.time_rebase_ns == 0);
+  // The same reference again moves nothing.
+  decoder.set_gps_hour_reference(kTopOfHourNs);
+  REQUIRE(decoder.decode(data_packet(1'003'981), host_ns, out) == DecodeStatus::ok);
+  CHECK(out.time_rebase_ns == 0);
+}

@@ -8,9 +8,11 @@
 #include <cmath>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "vlpground/driver/packet_source.hpp"
@@ -49,8 +51,16 @@ class FakeSource final : public PacketSource {
     }
   }
 
+  /// Calls `hold` (which may block) once, before serving packet `index`: lets a test order
+  /// the reader thread after an event of the detector thread without sleeping.
+  void hold_before(std::size_t index, std::function<void()> hold) {
+    hold_index_ = index;
+    hold_ = std::move(hold);
+  }
+
   SourceStatus next(PacketView& out, int /*timeout_ms*/) override {
     if (stop_) return SourceStatus::stopped;
+    if (hold_ && index_ == hold_index_) std::exchange(hold_, nullptr)();
     if (index_ >= packets_.size()) return SourceStatus::end_of_file;
     const auto& p = packets_[index_];
     out.bytes = std::span<const std::uint8_t>(p.data(), p.size());
@@ -85,6 +95,8 @@ class FakeSource final : public PacketSource {
   std::atomic<bool> stop_{false};
   SourceCounters counters_;
   bool live_;
+  std::size_t hold_index_ = 0;
+  std::function<void()> hold_;
 };
 
 }  // namespace vlpground::test

@@ -59,7 +59,11 @@ struct DecodedPacket {
   std::uint8_t product_byte = 0;
   std::uint32_t stamp_us_past_hour = 0;  // raw packet timestamp
   std::int64_t time_ns = 0;              // absolute time of the first firing
-  std::int64_t receive_ns = 0;           // receive time given by the caller
+  // Nonzero when a new hour reference (the first GPS fix, a GPS hour unlike the host
+  // clock's) moved this packet's time against the previous packets': the whole hours added.
+  // The packet stamps themselves stay continuous; consumers re-base earlier times by it.
+  std::int64_t time_rebase_ns = 0;
+  std::int64_t receive_ns = 0;  // receive time given by the caller
   std::uint16_t first_azimuth_centideg = 0;
   // 0-based index of this packet among all packets given to PacketDecoder::decode()
   // (the k-th data packet of a capture); ground-truth files are indexed by it.
@@ -165,6 +169,9 @@ class PacketDecoder {
   bool gps_anchor_pending_ = false;  // only the hour is known: next packet anchors
   std::int64_t gps_top_of_hour_ns_ = 0;
   std::int64_t gps_anchor_ns_ = 0;  // a GPS-clock time near the current packets
+  bool reference_changed_ = false;  // a GPS reference arrived since the last packet
+  bool have_resolved_ = false;
+  std::int64_t last_resolved_ns_ = 0;  // time of the previous decoded packet
 };
 
 }  // namespace vlpground

@@ -15,6 +15,9 @@
 //   dropped and counted; there is no reorder buffer, a late packet's columns stay invalid.
 // - A silence longer than `silence_timeout_ms` (in stamps, or on the steady clock through
 //   expire()) ends the frame in progress, marked incomplete.
+// - A packet whose time was re-based (DecodedPacket::time_rebase_ns: the hour now comes from
+//   GPS instead of the host clock) moves the frame in progress to the new clock instead of
+//   splitting it.
 // - `complete` means the frame spans a whole rotation from cut to cut (lost columns inside
 //   it are filled and counted in meta.columns_lost).
 //
@@ -56,6 +59,7 @@ struct AssemblerCounters {
   std::uint64_t stream_changes = 0;      // mode/model change or time jumping backwards
   std::uint64_t azimuth_jumps = 0;       // firing-to-firing steps > 10 deg (frame incomplete)
   std::uint64_t frames_dropped = 0;      // ready frames overwritten because pop() was not called
+  std::uint64_t clock_rebases = 0;       // frames in progress moved to a new hour reference
   std::uint64_t discarded_packets = 0;   // used in a frame that discard_frame() threw away
 
   /// Every data packet given to push() or note_skipped_packet() is in exactly one of these.
@@ -109,6 +113,7 @@ class RotationAssembler {
  private:
   struct ColumnSource;
   void handle_gap(const DecodedPacket& packet, std::int64_t delta_ns);
+  void rebase_time(std::int64_t shift_ns);
   void add_column(const ColumnSource& source);
   void write_column_header(int col, const ColumnSource& source);
   void extend_pending_run(int col, const ColumnSource& source);
