@@ -55,6 +55,9 @@ void DetectorConfig::validate() const {
           "min_sensor_height_m/max_sensor_height_m", "need 0 <= min < max");
   require(finite(label_height_m) && label_height_m > 0 && label_height_m <= 5, "label_height_m",
           "must be in (0, 5] m");
+  require(finite(steep_label_height_m) && steep_label_height_m >= 0 &&
+              steep_label_height_m <= label_height_m,
+          "steep_label_height_m", "must be in [0, label_height_m] m");
   require(finite(label_below_m) && label_below_m > 0, "label_below_m", "must be > 0");
   require(finite(label_growth_per_m) && label_growth_per_m >= 0 && label_growth_per_m < 1,
           "label_growth_per_m", "must be in [0, 1)");

@@ -10,6 +10,8 @@
 #include "hypotheses.hpp"
 #include "method.hpp"
 #include "partition_search.hpp"
+#include "ring_reach.hpp"
+#include "steep.hpp"
 #include "tangents.hpp"
 
 namespace vlpground::detail {
@@ -36,7 +38,9 @@ constexpr float kCandidateBand_m = 1.0f;
 // A segment plane needs eq. 3 inliers from at least this many rings.
 constexpr int kMinGroundRings = 3;
 // Near a partition line (within this many bins) a return may also be labelled by the
-// plane across the line: the cut is quantised to bins, the terrain change is not.
+// plane across the line, and planes of adjacent segments need only meet within this
+// distance of the line: the cut is quantised to bins and found by score, the terrain break
+// is neither.
 constexpr float kSoftBoundaryBins = 2.0f;
 
 float signed_height(const Plane& p, float x, float y, float z) {
@@ -44,6 +48,11 @@ float signed_height(const Plane& p, float x, float y, float z) {
 }
 
 float plane_z(const Plane& p, float x, float y) { return -(p.nx * x + p.ny * y + p.d) / p.nz; }
+float slope_x(const Plane& p) { return -p.nx / p.nz; }
+float slope_y(const Plane& p) { return -p.ny / p.nz; }
+float plane_gap(const Plane& a, const Plane& b, float x, float y) {
+  return std::abs(plane_z(a, x, y) - plane_z(b, x, y));
+}
 
 class TangentMethod final : public Method {
  public:
@@ -61,6 +70,8 @@ class TangentMethod final : public Method {
     origin_y_ = static_cast<float>(c.extrinsics.y_m);
     label_up_ = static_cast<float>(c.label_height_m);
     label_down_ = static_cast<float>(c.label_below_m);
+    steep_up_ = static_cast<float>(c.steep_label_height_m);
+    soft_m_ = kSoftBoundaryBins * bin_;
   }
 
   void detect(const Frame& frame, const Cloud& cloud, GroundResult& out) override {
@@ -69,6 +80,8 @@ class TangentMethod final : public Method {
     if (frame.columns() > 0)  // a rotation spans the frame's columns (about 2 pi)
       tp.column_angle_rad = 2.f * static_cast<float>(M_PI) / static_cast<float>(frame.columns());
     compute_tangents(cloud, tp, tangents_);
+    measure_ring_slopes(frame, ring_slopes_);
+    mark_steep(frame, cloud, steep_);
     out.timings.tangents_ms = ms_since(t);
     bin_points(cloud);
     select_candidates(cloud);
@@ -165,10 +178,12 @@ class TangentMethod final : public Method {
         cx_.push_back(cloud.x[i]);
         cy_.push_back(cloud.y[i]);
         cz_.push_back(cloud.z[i]);
-        ctx_.push_back(tangents_.x[i]);
-        cty_.push_back(tangents_.y[i]);
-        ctz_.push_back(tangents_.z[i]);
-        if (tangents_.valid[i] && (lowest == end || cloud.z[i] < cloud.z[lowest])) lowest = i;
+        const bool ground_like = tangents_.valid[i] && !steep_[i];
+        // A steep return keeps its place for the below penalty but is never an inlier.
+        ctx_.push_back(ground_like ? tangents_.x[i] : 0.f);
+        cty_.push_back(ground_like ? tangents_.y[i] : 0.f);
+        ctz_.push_back(ground_like ? tangents_.z[i] : kNoTangentZ);
+        if (ground_like && (lowest == end || cloud.z[i] < cloud.z[lowest])) lowest = i;
       }
       if (lowest == end) continue;
       low_.slot_of_bin[b] = static_cast<std::int32_t>(low_.x.size());
@@ -241,7 +256,7 @@ class TangentMethod final : public Method {
     PlaneFit fits[4];
     std::uint32_t rings[4] = {0, 0, 0, 0};  // rings contributing inliers, one bit each
     for (Index i = 0; i < cloud.size(); ++i) {
-      if (point_bin_[i] < 0 || !tangents_.valid[i]) continue;
+      if (point_bin_[i] < 0 || !tangents_.valid[i] || steep_[i]) continue;
       const int s = segment_of(out, cloud.x[i], cloud.y[i]);
       const Plane& p = out.segments[idx(s)].plane;
       if (!out.segments[idx(s)].has_ground) continue;
@@ -258,7 +273,7 @@ class TangentMethod final : public Method {
       if (!g.has_ground) continue;
       // Ground is a surface seen by several rings; a single ring's line on a wall or a car
       // side fits a plane just as well, so such a segment has no ground of its own.
-      if (check_rings && std::popcount(rings[s]) < kMinGroundRings) {
+      if (check_rings && std::popcount(rings[s]) < required_rings(g)) {
         g.has_ground = false;
         continue;
       }
@@ -269,12 +284,22 @@ class TangentMethod final : public Method {
     }
   }
 
+  // Ground needs kMinGroundRings rings, or every ring that can reach it when fewer do: a far
+  // segment (16-40 m on flat ground) is crossed by two rings only. Never fewer than 2.
+  [[nodiscard]] int required_rings(const GroundSegment& g) const {
+    float near_m = 0, far_m = 0;
+    rect_distances(origin_x_, origin_y_, g.x_min_m, g.x_max_m, g.y_min_m, g.y_max_m, near_m, far_m);
+    const int reach =
+        rings_reaching(ring_slopes_, sensor_height_over(g.plane), near_m, std::min(far_m, radius_));
+    return std::clamp(reach, 2, kMinGroundRings);
+  }
+
   [[nodiscard]] float sensor_height_over(const Plane& p) const {
     return signed_height(p, origin_x_, origin_y_, static_cast<float>(cfg_.extrinsics.z_m));
   }
 
   // Plausibility (docs/detector.md): the anchor is the best-scoring segment whose plane lies
-  // a sensor height under the sensor; a segment whose plane disagrees with the anchor's at
+  // a sensor height under the sensor; a segment whose plane disagrees with the anchor's near
   // the partition centre (where they meet) by more than max_step_m has no ground.
   void check_agreement(const SearchResult& f, GroundResult& out) const {
     int anchor = -1;
@@ -294,11 +319,14 @@ class TangentMethod final : public Method {
     if (h_own < cfg_.min_sensor_height_m || h_own > cfg_.max_sensor_height_m)
       own.has_ground = false;
     const Plane& a = out.segments[idx(anchor)].plane;
-    const float za = plane_z(a, out.centre_x_m, out.centre_y_m);
     for (GroundSegment& g : out.segments) {
       if (!g.has_ground) continue;
-      if (std::abs(plane_z(g.plane, out.centre_x_m, out.centre_y_m) - za) > cfg_.max_step_m)
-        g.has_ground = false;
+      // The planes must come within max_step_m of each other within soft_m_ of the centre:
+      // the gap there shrinks by at most soft_m_ times the gradient of their difference.
+      const float gap = plane_gap(g.plane, a, out.centre_x_m, out.centre_y_m);
+      const float gradient =
+          std::hypot(slope_x(g.plane) - slope_x(a), slope_y(g.plane) - slope_y(a));
+      if (gap - soft_m_ * gradient > cfg_.max_step_m) g.has_ground = false;
     }
     check_edges(out, anchor);
   }
@@ -322,7 +350,10 @@ class TangentMethod final : public Method {
         const float diff = plane_z(a.plane, x, y) - plane_z(b.plane, x, y);
         if (std::abs(diff) > std::abs(worst)) worst = diff;
       }
-      if (std::abs(worst) <= cfg_.max_step_m) continue;
+      // Slack across the edge: the terrain break may sit a few metres off the cut line.
+      const float across = kDir[k][0] != 0 ? slope_y(a.plane) - slope_y(b.plane)
+                                           : slope_x(a.plane) - slope_x(b.plane);
+      if (std::abs(worst) - soft_m_ * std::abs(across) <= cfg_.max_step_m) continue;
       // Ground is the lower envelope: the plane riding higher is the implausible one.
       int loser = worst > 0 ? kPairs[k][0] : kPairs[k][1];
       if (loser == anchor) loser = kPairs[k][0] + kPairs[k][1] - loser;
@@ -330,14 +361,44 @@ class TangentMethod final : public Method {
     }
   }
 
-  // Segments without ground inherit the plane of the best-scoring neighbour with ground.
-  static void inherit(const SearchResult& f, GroundResult& out, bool (&own)[4]) {
-    for (int s = 0; s < 4; ++s) own[s] = out.segments[idx(s)].has_ground;
+  // Net score (b_m of Algorithm 1: eq. 3 inliers minus the below penalty) of plane p over
+  // the scoring candidates of the bins of segment s of the partition.
+  [[nodiscard]] std::int64_t segment_fit(const SearchResult& f, int s, const Plane& p) const {
+    const int c0 = (s & 1) ? f.centre_col : 0, c1 = (s & 1) ? bins_ : f.centre_col;
+    const int r0 = (s & 2) ? f.centre_row : 0, r1 = (s & 2) ? bins_ : f.centre_row;
+    const float below = -static_cast<float>(cfg_.below_distance_m);
+    std::int64_t sum = 0;
+    for (int r = r0; r < r1; ++r)
+      for (int c = c0; c < c1; ++c) {
+        const std::int32_t slot = bin_slot_[idx(r * bins_ + c)];
+        if (slot < 0) continue;
+        for (Index k = idx(slot_start_[idx(slot)]); k < idx(slot_start_[idx(slot) + 1]); ++k) {
+          sum += eq3_inlier(p, cx_[k], cy_[k], cz_[k], ctx_[k], cty_[k], ctz_[k], eps_, sin_delta_);
+          if (signed_height(p, cx_[k], cy_[k], cz_[k]) < below) sum -= cfg_.below_penalty;
+        }
+      }
+    return sum;
+  }
+
+  // A segment without ground inherits the plane of the neighbour whose hypothesis explains
+  // the segment's own returns best (a far segment beyond a grade change takes the plane of
+  // the segment across the cut along the slope, not the larger one across the grade);
+  // without such evidence, the best-scoring neighbour's.
+  void inherit(const SearchResult& f, GroundResult& out) {
+    for (int s = 0; s < 4; ++s) own_[s] = out.segments[idx(s)].has_ground;
     for (int s = 0; s < 4; ++s) {
-      if (own[s]) continue;
+      if (own_[s]) continue;
       int donor = -1;
-      for (int o : {s ^ 1, s ^ 2, s ^ 3})
-        if (own[o] && (donor < 0 || f.score[idx(o)] > f.score[idx(donor)])) donor = o;
+      std::int64_t best_fit = 0;
+      for (int o : {s ^ 1, s ^ 2, s ^ 3}) {
+        if (!own_[o]) continue;
+        const std::int64_t fit = segment_fit(f, s, out.segments[idx(o)].plane);
+        if (donor < 0 || fit > best_fit ||
+            (fit == best_fit && f.score[idx(o)] > f.score[idx(donor)])) {
+          donor = o;
+          best_fit = fit;
+        }
+      }
       if (donor < 0) continue;
       out.segments[idx(s)].plane = out.segments[idx(donor)].plane;
       out.segments[idx(s)].inherited = true;
@@ -354,7 +415,7 @@ class TangentMethod final : public Method {
     check_agreement(f, out);
     refine(cloud, out);
     check_agreement(f, out);  // refinement may have tilted a plane out of agreement
-    inherit(f, out, own_);
+    inherit(f, out);
   }
 
   // Label rule for one plane: height window (grown beyond the fit radius) and, when the
@@ -362,7 +423,8 @@ class TangentMethod final : public Method {
   [[nodiscard]] bool ground_by(const Plane& p, Index i, const Cloud& cloud, float h, float grow,
                                float sin_label) const {
     (void)cloud;
-    if (!(h < label_up_ + grow && h > -label_down_ - grow)) return false;
+    const float up = steep_[i] ? std::min(label_up_, steep_up_) : label_up_;
+    if (!(h < up + grow && h > -label_down_ - grow)) return false;
     if (!tangents_.valid[i]) return true;
     const float dot = p.nx * tangents_.x[i] + p.ny * tangents_.y[i] + p.nz * tangents_.z[i];
     return std::abs(dot) < sin_label;
@@ -373,7 +435,6 @@ class TangentMethod final : public Method {
     for (bool o : own_) any = any || o;
     const float sin_label = std::sin(2.0f * static_cast<float>(cfg_.tangent_angle_deg) * kDegToRad);
     const float growth = static_cast<float>(cfg_.label_growth_per_m);
-    const float soft_m = kSoftBoundaryBins * bin_;
     (void)frame;
     for (Index i = 0; i < cloud.size(); ++i) {
       const Index cell = cloud.cell[i];
@@ -386,8 +447,8 @@ class TangentMethod final : public Method {
       const float x = cloud.x[i], y = cloud.y[i];
       const int own = segment_of(out, x, y);
       const float grow = growth * std::max(0.f, cloud.range_xy[i] - radius_);
-      const bool near_x = std::abs(x - out.centre_x_m) < soft_m;
-      const bool near_y = std::abs(y - out.centre_y_m) < soft_m;
+      const bool near_x = std::abs(x - out.centre_x_m) < soft_m_;
+      const bool near_y = std::abs(y - out.centre_y_m) < soft_m_;
       float h = signed_height(out.segments[idx(own)].plane, x, y, cloud.z[i]);
       bool ground = ground_by(out.segments[idx(own)].plane, i, cloud, h, grow, sin_label);
       for (int flip : {1, 2, 3}) {
@@ -406,9 +467,11 @@ class TangentMethod final : public Method {
 
   DetectorConfig cfg_;
   int bins_ = 0, sub_ = 0;
-  float bin_ = 1, half_ = 0, label_up_ = 0, label_down_ = 0, radius_ = 0, eps_ = 0, sin_delta_ = 0,
-        origin_x_ = 0, origin_y_ = 0;
+  float bin_ = 1, half_ = 0, label_up_ = 0, label_down_ = 0, steep_up_ = 0, soft_m_ = 0,
+        radius_ = 0, eps_ = 0, sin_delta_ = 0, origin_x_ = 0, origin_y_ = 0;
   Tangents tangents_;
+  RingSlopes ring_slopes_{};
+  std::vector<std::uint8_t> steep_;
   std::vector<int> point_bin_;
   std::vector<std::int32_t> bin_start_, fill_, sorted_, bin_slot_, slot_start_;
   std::vector<float> cx_, cy_, cz_, ctx_, cty_, ctz_;

@@ -37,15 +37,16 @@ struct DetectorConfig {
   std::uint64_t seed = 1;
 
   // Plausibility additions to the paper (docs/detector.md says what each one buys).
-  double max_tilt_deg = 12.0;        // hypotheses steeper than this are not ground
-  double below_distance_m = 0.3;     // a return this far under a plane counts against it
-  int below_penalty = 2;             // score = inliers - penalty * returns below (per bin)
-  double max_step_m = 0.4;           // segment planes must agree within this at the centre
-  double min_sensor_height_m = 0.5;  // the anchor plane must lie this far under the sensor
-  double max_sensor_height_m = 5.0;  //   and no farther
-  double label_height_m = 0.12;      // labels: ground up to this above the plane
-  double label_below_m = 0.5;        //   and down to this under it
-  double label_growth_per_m = 0.02;  // beyond fit_radius_m both grow by this per metre
+  double max_tilt_deg = 12.0;          // hypotheses steeper than this are not ground
+  double below_distance_m = 0.3;       // a return this far under a plane counts against it
+  int below_penalty = 2;               // score = inliers - penalty * returns below (per bin)
+  double max_step_m = 0.4;             // segment planes must agree within this at the centre
+  double min_sensor_height_m = 0.5;    // the anchor plane must lie this far under the sensor
+  double max_sensor_height_m = 5.0;    //   and no farther
+  double label_height_m = 0.18;        // labels: ground up to this above the plane (curbs)
+  double steep_label_height_m = 0.06;  //   or this for a return on a steep surface (wall, car)
+  double label_below_m = 0.5;          //   and down to this under it
+  double label_growth_per_m = 0.02;    // beyond fit_radius_m both grow by this per metre
 
   /// Throws std::invalid_argument naming the bad field and its valid range.
   void validate() const;
