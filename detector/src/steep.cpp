@@ -1,32 +1,51 @@
 #include "steep.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace vlpground::detail {
 
 namespace {
 
-bool steep_between(const ReturnLayer& layer, std::size_t a, std::size_t b) {
-  if (layer.valid[b] == 0) return false;
-  const float dz = layer.z_m[b] - layer.z_m[a];
-  const float dr = std::sqrt(layer.x_m[b] * layer.x_m[b] + layer.y_m[b] * layer.y_m[b]) -
-                   std::sqrt(layer.x_m[a] * layer.x_m[a] + layer.y_m[a] * layer.y_m[a]);
-  return std::abs(dz) > std::abs(dr);
+// [begin, end) of each (layer, ring) row in the cloud (build_cloud order).
+void row_bounds(const Cloud& cloud, std::size_t (&begin)[2][kLasers + 1]) {
+  const std::size_t n = cloud.size();
+  std::size_t i = 0;
+  for (int l = 0; l < 2; ++l) {
+    for (int ring = 0; ring <= kLasers; ++ring) {
+      while (i < n && (cloud.layer[i] < l || (cloud.layer[i] == l && cloud.ring[i] < ring))) ++i;
+      begin[l][ring] = i;
+    }
+  }
 }
 
 }  // namespace
 
-void mark_steep(const Frame& frame, const Cloud& cloud, std::vector<std::uint8_t>& steep) {
-  const std::size_t n = cloud.size();
-  const auto stride = static_cast<std::size_t>(frame.stride());
-  steep.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const ReturnLayer& layer = frame.layer[cloud.layer[i]];
-    const std::size_t cell = cloud.cell[i];
-    const int ring = cloud.ring[i];
-    const bool up = ring + 1 < kLasers && steep_between(layer, cell, cell + stride);
-    const bool down = !up && ring > 0 && steep_between(layer, cell, cell - stride);
-    steep[i] = static_cast<std::uint8_t>(up || down);
+void mark_steep(const Cloud& cloud, std::vector<std::uint8_t>& steep) {
+  steep.assign(cloud.size(), 0);
+  std::size_t begin[2][kLasers + 1];
+  row_bounds(cloud, begin);
+  for (int l = 0; l < 2; ++l) {
+    for (int ring = 0; ring + 1 < kLasers; ++ring) {
+      // Two rows sorted by column: pair the returns of the same column.
+      std::size_t a = begin[l][ring], b = begin[l][ring + 1];
+      const std::size_t a_end = begin[l][ring + 1],
+                        b_end = ring + 2 <= kLasers ? begin[l][ring + 2] : b;
+      while (a < a_end && b < b_end) {
+        if (cloud.column[a] < cloud.column[b]) {
+          ++a;
+        } else if (cloud.column[b] < cloud.column[a]) {
+          ++b;
+        } else {
+          const float dz = cloud.z[b] - cloud.z[a], dr = cloud.range_xy[b] - cloud.range_xy[a];
+          const auto rises = static_cast<std::uint8_t>(std::abs(dz) > std::abs(dr));
+          steep[a] |= rises;
+          steep[b] |= rises;
+          ++a;
+          ++b;
+        }
+      }
+    }
   }
 }
 

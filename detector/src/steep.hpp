@@ -12,7 +12,8 @@ namespace vlpground::detail {
 
 /// steep[i] = 1 when the surface between cloud point i and the return of the ring just
 /// above or just below it (same column, same layer) rises more than 45 degrees
-/// (|dz| > |d horizontal range|, sensor frame). Requires the cloud of build_cloud.
-void mark_steep(const Frame& frame, const Cloud& cloud, std::vector<std::uint8_t>& steep);
+/// (|dz| > |d horizontal range from the sensor|, vehicle frame). One merge pass over
+/// adjacent rows; requires the cloud in build_cloud order (layer, ring, column ascending).
+void mark_steep(const Cloud& cloud, std::vector<std::uint8_t>& steep);
 
 }  // namespace vlpground::detail

@@ -81,7 +81,7 @@ class TangentMethod final : public Method {
       tp.column_angle_rad = 2.f * static_cast<float>(M_PI) / static_cast<float>(frame.columns());
     compute_tangents(cloud, tp, tangents_);
     measure_ring_slopes(frame, ring_slopes_);
-    mark_steep(frame, cloud, steep_);
+    mark_steep(cloud, steep_);
     out.timings.tangents_ms = ms_since(t);
     bin_points(cloud);
     select_candidates(cloud);
