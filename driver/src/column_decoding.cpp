@@ -5,7 +5,7 @@
 
 #include "le_load.hpp"
 #include "trig_table.hpp"
-#include "vector_clones.hpp"
+#include "vlpground_internal/vector_clones.hpp"
 
 namespace vlpground::driver_detail {
 

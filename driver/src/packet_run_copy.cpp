@@ -3,7 +3,7 @@
 #include <array>
 #include <cstring>
 
-#include "vector_clones.hpp"
+#include "vlpground_internal/vector_clones.hpp"
 
 namespace vlpground::driver_detail {
 

@@ -1,3 +1,6 @@
+// Internal to the project (never installed): include with
+// target_include_directories(<target> PRIVATE ${PROJECT_SOURCE_DIR}/core/internal).
+//
 // Builds a hot function twice, for the x86-64 baseline (SSE2) and for AVX2 + FMA
 // (x86-64-v3), picking one at load time (GCC function multi-versioning through ifunc).
 // The binary stays portable to any x86-64; machines from 2013 on get the wide version.
