@@ -122,12 +122,14 @@ void check_capture(const std::string& stem, ReturnMode expected_mode, Model expe
   INFO(stem << ": worst time " << worst_time << " us, azimuth " << worst_azimuth << " deg, range "
             << worst_range << " m, xyz " << worst_xyz << " m; last block: azimuth "
             << worst_last_azimuth << " deg, xyz " << worst_last_xyz << " m");
+  // Measured: azimuth 7e-5 deg, range 8e-6 m, xyz 8e-5 m (float arithmetic, both the
+  // baseline and the AVX2 build). The bounds leave room for the CSV's printed precision only.
   CHECK(worst_time < 0.01);
-  CHECK(worst_azimuth < 0.01);
-  CHECK(worst_range < 0.001);
-  CHECK(worst_xyz < 0.0012);
+  CHECK(worst_azimuth < 0.001);
+  CHECK(worst_range < 0.0001);
+  CHECK(worst_xyz < 0.0003);
   CHECK(worst_last_azimuth < 0.01);
-  CHECK(worst_last_xyz < 0.0012);
+  CHECK(worst_last_xyz < 0.0003);
 }
 
 }  // namespace
