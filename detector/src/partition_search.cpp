@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <limits>
 
+#include "vlpground_internal/vector_clones.hpp"
+
 namespace vlpground::detail {
 
 namespace {
@@ -135,6 +137,7 @@ SearchResult search_streaming(const SearchInput& in, std::vector<Acc>& scratch) 
 
 }  // namespace
 
+VLPGROUND_VECTOR_CLONES
 SearchResult search_partition(const SearchInput& in, SearchScratch& scratch) {
   if (in.score_bound > 0 && in.score_bound <= std::numeric_limits<std::int16_t>::max())
     return search_streaming(in, scratch.narrow);

@@ -11,6 +11,7 @@
 #include "method.hpp"
 #include "partition_search.hpp"
 #include "ring_reach.hpp"
+#include "scoring.hpp"
 #include "steep.hpp"
 #include "tangents.hpp"
 
@@ -93,7 +94,12 @@ class TangentMethod final : public Method {
     sp.seed = cfg_.seed;
     sample_hypotheses(low_, sp, planes_);
     out.timings.hypotheses_ms = ms_since(t);
-    score_bins();
+    ScoreParams score_params;
+    score_params.eps = eps_;
+    score_params.sin_delta = sin_delta_;
+    score_params.below = -static_cast<float>(cfg_.below_distance_m);
+    score_params.penalty = cfg_.below_penalty;
+    scorer_.score(cand_, planes_, score_params, scores_);
     out.timings.inliers_ms = ms_since(t);
     SearchInput in;
     in.bins = bins_;
@@ -102,7 +108,7 @@ class TangentMethod final : public Method {
     in.slot_scores = scores_.data();
     in.min_segment_score = cfg_.min_segment_inliers;
     in.allow_empty_segments = true;
-    in.score_bound = static_cast<std::int64_t>(cx_.size()) * std::max(1, cfg_.below_penalty);
+    in.score_bound = static_cast<std::int64_t>(cand_.x.size()) * std::max(1, cfg_.below_penalty);
     SearchResult found;
     if (in.hypotheses > 0) found = search_partition(in, search_scratch_);
     out.timings.search_ms = ms_since(t);
@@ -144,11 +150,10 @@ class TangentMethod final : public Method {
     const Index nb = idx(bins_ * bins_);
     bin_slot_.assign(nb, -1);
     low_.slot_of_bin.assign(nb, -1);
-    for (auto* v : {&cx_, &cy_, &cz_, &ctx_, &cty_, &ctz_}) v->clear();
+    cand_.clear();
     for (auto* v : {&low_.x, &low_.y, &low_.z, &low_.tx, &low_.ty, &low_.tz}) v->clear();
     low_.col.clear();
     low_.row.clear();
-    slot_start_.clear();
     stamp_.resize(idx(std::max(1, sub_ * sub_)));
     for (Index b = 0; b < nb; ++b) {
       const Index begin = idx(bin_start_[b]), end = idx(bin_start_[b + 1]);
@@ -156,8 +161,8 @@ class TangentMethod final : public Method {
       float zmin = std::numeric_limits<float>::max();
       for (Index k = begin; k < end; ++k) zmin = std::min(zmin, cloud.z[idx(sorted_[k], 0)]);
       if (++stamp_value_ == 0) std::fill(stamp_.begin(), stamp_.end(), stamp_value_++);
-      const auto slot = static_cast<std::int32_t>(slot_start_.size());
-      slot_start_.push_back(static_cast<std::int32_t>(cx_.size()));
+      const auto slot = static_cast<std::int32_t>(cand_.start.size());
+      cand_.start.push_back(static_cast<std::int32_t>(cand_.x.size()));
       bin_slot_[b] = slot;
       const int col = static_cast<int>(b % idx(bins_)), row = static_cast<int>(b / idx(bins_));
       const float x0 = origin_x_ - half_ + static_cast<float>(col) * bin_;
@@ -175,14 +180,14 @@ class TangentMethod final : public Method {
           if (s == stamp_value_) continue;
           s = stamp_value_;
         }
-        cx_.push_back(cloud.x[i]);
-        cy_.push_back(cloud.y[i]);
-        cz_.push_back(cloud.z[i]);
+        cand_.x.push_back(cloud.x[i]);
+        cand_.y.push_back(cloud.y[i]);
+        cand_.z.push_back(cloud.z[i]);
         const bool ground_like = tangents_.valid[i] && !steep_[i];
         // A steep return keeps its place for the below penalty but is never an inlier.
-        ctx_.push_back(ground_like ? tangents_.x[i] : 0.f);
-        cty_.push_back(ground_like ? tangents_.y[i] : 0.f);
-        ctz_.push_back(ground_like ? tangents_.z[i] : kNoTangentZ);
+        cand_.tx.push_back(ground_like ? tangents_.x[i] : 0.f);
+        cand_.ty.push_back(ground_like ? tangents_.y[i] : 0.f);
+        cand_.tz.push_back(ground_like ? tangents_.z[i] : kNoTangentZ);
         if (ground_like && (lowest == end || cloud.z[i] < cloud.z[lowest])) lowest = i;
       }
       if (lowest == end) continue;
@@ -196,35 +201,7 @@ class TangentMethod final : public Method {
       low_.col.push_back(col);
       low_.row.push_back(row);
     }
-    slot_start_.push_back(static_cast<std::int32_t>(cx_.size()));
-  }
-
-  // b_m(c, r) of Algorithm 1, as a net score: eq. 3 inliers minus a penalty for candidates
-  // clearly under the plane. Per bin one contiguous row of M scores (M innermost).
-  void score_bins() {
-    const Index m_count = planes_.size();
-    const Index slots = slot_start_.size() - 1;
-    scores_.resize(slots * m_count);
-    const float* nx = planes_.nx.data();
-    const float* ny = planes_.ny.data();
-    const float* nz = planes_.nz.data();
-    const float* d = planes_.d.data();
-    const float eps = eps_, sin_delta = sin_delta_;
-    const float below = -static_cast<float>(cfg_.below_distance_m);
-    const std::int32_t penalty = cfg_.below_penalty;
-    for (Index s = 0; s < slots; ++s) {
-      std::int32_t* row = scores_.data() + s * m_count;
-      std::fill_n(row, m_count, 0);
-      for (Index k = idx(slot_start_[s]); k < idx(slot_start_[s + 1]); ++k) {
-        const float x = cx_[k], y = cy_[k], z = cz_[k], tx = ctx_[k], ty = cty_[k], tz = ctz_[k];
-        for (Index m = 0; m < m_count; ++m) {
-          const float dist = nx[m] * x + ny[m] * y + nz[m] * z + d[m];  // eq. 3, line 1
-          const float dot = nx[m] * tx + ny[m] * ty + nz[m] * tz;       // eq. 3, line 2
-          const std::int32_t inlier = (std::abs(dist) < eps) & (std::abs(dot) < sin_delta);
-          row[m] += inlier - penalty * static_cast<std::int32_t>(dist < below);
-        }
-      }
-    }
+    cand_.start.push_back(static_cast<std::int32_t>(cand_.x.size()));
   }
 
   // Segment s of the found partition; x/y bounds in the vehicle frame.
@@ -372,9 +349,10 @@ class TangentMethod final : public Method {
       for (int c = c0; c < c1; ++c) {
         const std::int32_t slot = bin_slot_[idx(r * bins_ + c)];
         if (slot < 0) continue;
-        for (Index k = idx(slot_start_[idx(slot)]); k < idx(slot_start_[idx(slot) + 1]); ++k) {
-          sum += eq3_inlier(p, cx_[k], cy_[k], cz_[k], ctx_[k], cty_[k], ctz_[k], eps_, sin_delta_);
-          if (signed_height(p, cx_[k], cy_[k], cz_[k]) < below) sum -= cfg_.below_penalty;
+        const Candidates& q = cand_;
+        for (Index k = idx(q.start[idx(slot)]); k < idx(q.start[idx(slot) + 1]); ++k) {
+          sum += eq3_inlier(p, q.x[k], q.y[k], q.z[k], q.tx[k], q.ty[k], q.tz[k], eps_, sin_delta_);
+          if (signed_height(p, q.x[k], q.y[k], q.z[k]) < below) sum -= cfg_.below_penalty;
         }
       }
     return sum;
@@ -473,8 +451,9 @@ class TangentMethod final : public Method {
   RingSlopes ring_slopes_{};
   std::vector<std::uint8_t> steep_;
   std::vector<int> point_bin_;
-  std::vector<std::int32_t> bin_start_, fill_, sorted_, bin_slot_, slot_start_;
-  std::vector<float> cx_, cy_, cz_, ctx_, cty_, ctz_;
+  std::vector<std::int32_t> bin_start_, fill_, sorted_, bin_slot_;
+  Candidates cand_;
+  SlotScorer scorer_;
   std::vector<std::uint32_t> stamp_;
   std::uint32_t stamp_value_ = 0;
   LowPoints low_;

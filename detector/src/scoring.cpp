@@ -1,0 +1,96 @@
+#include "scoring.hpp"
+
+#include <algorithm>
+#include <array>
+
+#include "tangents.hpp"
+#include "vlpground_internal/vector_clones.hpp"
+
+namespace vlpground::detail {
+
+void Candidates::clear() {
+  for (auto* v : {&x, &y, &z, &tx, &ty, &tz}) v->clear();
+  start.clear();
+}
+
+namespace {
+
+using Index = std::size_t;
+
+// Hypotheses per block: two AVX2 vectors of 8 lanes.
+constexpr Index kBlock = 8;
+
+struct Kernel {
+  const float *x, *y, *z, *tx, *ty, *tz;
+  const std::int32_t* start;
+  Index slots;
+  const float *nx, *ny, *nz, *d;  // padded to whole blocks
+  Index m_count;
+};
+
+// Eq. 3 (line 1: |n.x + d| < eps, line 2: |n.t| < sin(delta)) and the below penalty, the
+// same float operations as score_reference.
+VLPGROUND_VECTOR_CLONES
+void score_all(const Kernel& q, const ScoreParams p, std::int32_t* __restrict scores) {
+  for (Index s = 0; s < q.slots; ++s) {
+    const auto begin = static_cast<Index>(q.start[s]), end = static_cast<Index>(q.start[s + 1]);
+    std::int32_t* row = scores + s * q.m_count;
+    for (Index m0 = 0; m0 < q.m_count; m0 += kBlock) {
+      const float* __restrict nx = q.nx + m0;
+      const float* __restrict ny = q.ny + m0;
+      const float* __restrict nz = q.nz + m0;
+      const float* __restrict d = q.d + m0;
+      std::array<std::int32_t, kBlock> acc{};
+      for (Index k = begin; k < end; ++k) {
+        const float x = q.x[k], y = q.y[k], z = q.z[k], tx = q.tx[k], ty = q.ty[k], tz = q.tz[k];
+        for (Index j = 0; j < kBlock; ++j) {
+          const float dist = nx[j] * x + ny[j] * y + nz[j] * z + d[j];
+          const float dot = nx[j] * tx + ny[j] * ty + nz[j] * tz;
+          const float abs_dist = dist < 0 ? -dist : dist;
+          const float abs_dot = dot < 0 ? -dot : dot;
+          const std::int32_t inlier = (abs_dist < p.eps) & (abs_dot < p.sin_delta);
+          acc[j] += inlier - p.penalty * static_cast<std::int32_t>(dist < p.below);
+        }
+      }
+      const Index lanes = std::min(kBlock, q.m_count - m0);
+      for (Index j = 0; j < lanes; ++j) row[m0 + j] = acc[j];
+    }
+  }
+}
+
+}  // namespace
+
+void SlotScorer::score(const Candidates& c, const PlaneSet& planes, const ScoreParams& params,
+                       std::vector<std::int32_t>& scores) {
+  const Index m_count = planes.size();
+  padded_.clear();
+  for (Index m = 0; m < m_count; ++m) padded_.push(planes.at(m));
+  // A padding plane lies far under every candidate: never an inlier, never above one.
+  while (padded_.size() % kBlock != 0) padded_.push(Plane{0.f, 0.f, 1.f, 1e30f});
+  scores.resize(c.slots() * m_count);
+  if (m_count == 0) return;
+  const Kernel q{
+      c.x.data(),        c.y.data(),       c.z.data(), c.tx.data(),       c.ty.data(),
+      c.tz.data(),       c.start.data(),   c.slots(),  padded_.nx.data(), padded_.ny.data(),
+      padded_.nz.data(), padded_.d.data(), m_count};
+  score_all(q, params, scores.data());
+}
+
+void score_reference(const Candidates& c, const PlaneSet& planes, const ScoreParams& params,
+                     std::vector<std::int32_t>& scores) {
+  const Index m_count = planes.size(), slots = c.slots();
+  scores.assign(slots * m_count, 0);
+  for (Index s = 0; s < slots; ++s) {
+    for (Index k = static_cast<Index>(c.start[s]); k < static_cast<Index>(c.start[s + 1]); ++k) {
+      for (Index m = 0; m < m_count; ++m) {
+        const Plane p = planes.at(m);
+        const bool inlier = eq3_inlier(p, c.x[k], c.y[k], c.z[k], c.tx[k], c.ty[k], c.tz[k],
+                                       params.eps, params.sin_delta);
+        const bool under = p.nx * c.x[k] + p.ny * c.y[k] + p.nz * c.z[k] + p.d < params.below;
+        scores[s * m_count + m] += (inlier ? 1 : 0) - (under ? params.penalty : 0);
+      }
+    }
+  }
+}
+
+}  // namespace vlpground::detail
