@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "method.hpp"
+#include "vlpground_internal/vector_clones.hpp"
 
 namespace vlpground::detail {
 
@@ -15,46 +16,179 @@ void Cloud::clear() {
   layer.clear();
   ring.clear();
   column.clear();
+  twin.clear();
+  last_rows.clear();
+  deduplicated = false;
+  last_begin = 0;
 }
 
 namespace {
 
-// Vehicle-from-sensor rotation R = Rz(yaw) * Ry(pitch) * Rx(roll).
-Eigen::Matrix3f rotation_of(const Extrinsics& e) {
+using Index = std::size_t;
+
+// Vehicle-from-sensor rotation R = Rz(yaw) * Ry(pitch) * Rx(roll), then t.
+struct Transform {
+  float r[3][3];
+  float t[3];
+};
+
+Transform transform_of(const Extrinsics& e) {
   constexpr double kDegToRad = M_PI / 180.0;
   const Eigen::Matrix3d r = (Eigen::AngleAxisd(e.yaw_deg * kDegToRad, Eigen::Vector3d::UnitZ()) *
                              Eigen::AngleAxisd(e.pitch_deg * kDegToRad, Eigen::Vector3d::UnitY()) *
                              Eigen::AngleAxisd(e.roll_deg * kDegToRad, Eigen::Vector3d::UnitX()))
                                 .toRotationMatrix();
-  return r.cast<float>();
+  Transform out{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) out.r[i][j] = static_cast<float>(r(i, j));
+  out.t[0] = static_cast<float>(e.x_m);
+  out.t[1] = static_cast<float>(e.y_m);
+  out.t[2] = static_cast<float>(e.z_m);
+  return out;
+}
+
+// One frame row: its cells and where its points go.
+struct Row {
+  const float *x, *y, *z;
+  const std::uint8_t* valid;
+  std::uint8_t layer_index;
+  std::uint16_t ring;
+  Index first_cell;
+  int columns;
+};
+
+Row row_of(const Frame& frame, int layer, int ring) {
+  const Index first = frame.index(ring, 0);
+  const ReturnLayer& l = frame.layer[layer];
+  return {l.x_m.data() + first,
+          l.y_m.data() + first,
+          l.z_m.data() + first,
+          l.valid.data() + first,
+          static_cast<std::uint8_t>(layer),
+          static_cast<std::uint16_t>(ring),
+          first,
+          frame.columns()};
+}
+
+// Raw views of the cloud's arrays: stores through them cannot alias each other.
+struct Out {
+  float* __restrict x, * __restrict y, * __restrict z, * __restrict range_xy;
+  std::uint32_t* __restrict cell;
+  std::uint8_t* __restrict layer, * __restrict twin;
+  std::uint16_t* __restrict ring, * __restrict column;
+  std::uint32_t* __restrict last_rows;
+};
+
+Out view(Cloud& c) {
+  return {c.x.data(),     c.y.data(),    c.z.data(),    c.range_xy.data(), c.cell.data(),
+          c.layer.data(), c.twin.data(), c.ring.data(), c.column.data(),   c.last_rows.data()};
+}
+
+// Copies the sensor-frame point of cell `col` of `row` to slot k (whether or not it is
+// kept); transform_points moves it to the vehicle frame afterwards.
+inline void write_point(const Row& row, int col, Index k, const Out& o) {
+  o.x[k] = row.x[col];
+  o.y[k] = row.y[col];
+  o.z[k] = row.z[col];
+  o.cell[k] = static_cast<std::uint32_t>(row.first_cell + static_cast<Index>(col));
+  o.layer[k] = row.layer_index;
+  o.ring[k] = row.ring;
+  o.column[k] = static_cast<std::uint16_t>(col);
+}
+
+// Branchless compaction: every cell is written at slot k, which advances only past valid
+// cells (so the arrays have one spare slot at the end). Returns the next free slot.
+VLPGROUND_VECTOR_CLONES
+Index append_row(const Row& row, Index k, const Out& o) {
+  for (int col = 0; col < row.columns; ++col) {
+    write_point(row, col, k, o);
+    k += row.valid[col];
+  }
+  return k;
+}
+
+// p = R s + t and the horizontal range from the sensor, for points [0, n) in place.
+VLPGROUND_VECTOR_CLONES
+void transform_points(const Transform& tr, Index n, const Out& o) {
+  const float(&r)[3][3] = tr.r;
+  for (Index k = 0; k < n; ++k) {
+    const float sx = o.x[k], sy = o.y[k], sz = o.z[k];
+    const float px = r[0][0] * sx + r[0][1] * sy + r[0][2] * sz + tr.t[0];
+    const float py = r[1][0] * sx + r[1][1] * sy + r[1][2] * sz + tr.t[1];
+    const float pz = r[2][0] * sx + r[2][1] * sy + r[2][2] * sz + tr.t[2];
+    const double dx = px - tr.t[0], dy = py - tr.t[1];
+    o.x[k] = px;
+    o.y[k] = py;
+    o.z[k] = pz;
+    o.range_xy[k] = static_cast<float>(std::sqrt(dx * dx + dy * dy));  // what hypotf computes
+  }
+}
+
+// A last-layer row of a deduplicated cloud: a cell repeating the strongest echo exactly
+// (same point) adds no point; its strongest twin k0 is marked and stands for it in
+// last_rows (slot p). k0 walks the strongest points of the same row.
+VLPGROUND_VECTOR_CLONES
+Index append_last_row(const Row& row, const Row& strongest, const std::uint8_t* same_echo, Index k,
+                      Index k0, Index& p, const Out& o) {
+  for (int col = 0; col < row.columns; ++col) {
+    const bool same_point = row.x[col] == strongest.x[col] && row.y[col] == strongest.y[col] &&
+                            row.z[col] == strongest.z[col];
+    const unsigned dup =
+        same_echo[col] & strongest.valid[col] & row.valid[col] & static_cast<unsigned>(same_point);
+    write_point(row, col, k, o);
+    o.twin[k0] = static_cast<std::uint8_t>(o.twin[k0] | dup);
+    o.last_rows[p] = static_cast<std::uint32_t>(dup != 0 ? k0 : k);
+    p += row.valid[col];
+    k += row.valid[col] & (dup ^ 1u);
+    k0 += strongest.valid[col];
+  }
+  return k;
+}
+
+Index count_valid(const Frame& frame, int layer) {
+  Index n = 0;
+  for (int ring = 0; ring < kLasers; ++ring) {
+    const std::uint8_t* v = frame.layer[layer].valid.data() + frame.index(ring, 0);
+    for (int col = 0; col < frame.columns(); ++col) n += v[col];
+  }
+  return n;
+}
+
+void resize_all(Cloud& c, Index n) {
+  for (auto* v : {&c.x, &c.y, &c.z, &c.range_xy}) v->resize(n);
+  c.cell.resize(n);
+  c.layer.resize(n);
+  c.ring.resize(n);
+  c.column.resize(n);
+  c.twin.resize(n);
 }
 
 }  // namespace
 
-void build_cloud(const Frame& frame, const Extrinsics& extrinsics, Cloud& cloud) {
+void build_cloud(const Frame& frame, const Extrinsics& extrinsics, bool deduplicate, Cloud& cloud) {
   cloud.clear();
-  const Eigen::Matrix3f r = rotation_of(extrinsics);
-  const Eigen::Vector3f t(static_cast<float>(extrinsics.x_m), static_cast<float>(extrinsics.y_m),
-                          static_cast<float>(extrinsics.z_m));
-  const int columns = frame.columns();
-  for (int l = 0; l < frame.layers(); ++l) {
-    const ReturnLayer& layer = frame.layer[l];
+  const Transform tr = transform_of(extrinsics);
+  const int layers = frame.layers();
+  cloud.deduplicated = deduplicate && layers == 2;
+  const Index strongest = count_valid(frame, 0), last = layers == 2 ? count_valid(frame, 1) : 0;
+  resize_all(cloud, strongest + last + 1);
+  if (cloud.deduplicated) cloud.last_rows.resize(last + 1);
+  const Out out = view(cloud);
+  Index k = 0, p = 0, row_start[kLasers] = {};
+  for (int l = 0; l < layers; ++l) {
+    if (l == 1) cloud.last_begin = k;
     for (int ring = 0; ring < kLasers; ++ring) {
-      for (int col = 0; col < columns; ++col) {
-        const std::size_t i = frame.index(ring, col);
-        if (layer.valid[i] == 0) continue;
-        const Eigen::Vector3f p = r * Eigen::Vector3f(layer.x_m[i], layer.y_m[i], layer.z_m[i]) + t;
-        cloud.x.push_back(p.x());
-        cloud.y.push_back(p.y());
-        cloud.z.push_back(p.z());
-        cloud.range_xy.push_back(std::hypot(p.x() - t.x(), p.y() - t.y()));
-        cloud.cell.push_back(static_cast<std::uint32_t>(i));
-        cloud.layer.push_back(static_cast<std::uint8_t>(l));
-        cloud.ring.push_back(static_cast<std::uint16_t>(ring));
-        cloud.column.push_back(static_cast<std::uint16_t>(col));
-      }
+      const Row row = row_of(frame, l, ring);
+      if (l == 0) row_start[ring] = k;
+      k = l == 1 && cloud.deduplicated
+              ? append_last_row(row, row_of(frame, 0, ring),
+                                frame.same_echo.data() + row.first_cell, k, row_start[ring], p, out)
+              : append_row(row, k, out);
     }
   }
+  transform_points(tr, k, out);
+  resize_all(cloud, k);
+  cloud.last_rows.resize(p);
 }
 
 }  // namespace vlpground::detail

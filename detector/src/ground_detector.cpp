@@ -124,7 +124,9 @@ void GroundDetector::detect(const Frame& frame, GroundResult& out) {
   out.segments = {};
   out.total_inliers = 0;
   reset_cells(frame, out);
-  detail::build_cloud(frame, impl_->config.extrinsics, impl_->cloud);
+  // Only the tangent method knows twins (see detail::Cloud); the baselines see every return.
+  detail::build_cloud(frame, impl_->config.extrinsics, impl_->config.method == "tangent",
+                      impl_->cloud);
   out.timings.cloud_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   impl_->method->detect(frame, impl_->cloud, out);
 

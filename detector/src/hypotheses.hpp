@@ -57,7 +57,8 @@ bool plane_from_points(const float* a, const float* b, const float* c, Plane& ou
 /// Accumulates points for a least-squares plane (smallest eigenvector of the covariance).
 class PlaneFit {
  public:
-  void add(float x, float y, float z);
+  /// Adds the point `weight` times.
+  void add(float x, float y, float z, int weight = 1);
   [[nodiscard]] int count() const { return n_; }
   /// False with fewer than 3 points or a degenerate spread.
   bool solve(Plane& out) const;

@@ -11,21 +11,33 @@
 
 namespace vlpground::detail {
 
-/// Valid returns of a frame in the vehicle frame (extrinsics applied), structure of arrays.
-/// Built once per frame by the front end and shared by every method.
+/// Valid returns of a frame in the vehicle frame (extrinsics applied), structure of arrays,
+/// in (layer, ring, column) order. Built once per frame by the front end.
+///
+/// With `deduplicated`, a last return that repeats the strongest echo (Frame::same_echo,
+/// the same point) is not a point of its own: its strongest twin (twin = 1) stands for both
+/// cells. `last_rows` then lists, for every valid last-return cell in (ring, column) order,
+/// the point holding its echo (the twin or the distinct last return), so that rows of the
+/// last layer can still be walked as the sensor saw them.
 struct Cloud {
   std::vector<float> x, y, z;       // vehicle frame, metres
   std::vector<float> range_xy;      // horizontal distance from the sensor origin
   std::vector<std::uint32_t> cell;  // index into the frame's per-cell arrays
   std::vector<std::uint8_t> layer;  // return layer of the point (0 or 1)
   std::vector<std::uint16_t> ring, column;
+  std::vector<std::uint8_t> twin;  // empty, or 1 where the last layer repeats the point
+  bool deduplicated = false;
+  std::size_t last_begin = 0;            // first last-layer point (deduplicated clouds)
+  std::vector<std::uint32_t> last_rows;  // deduplicated clouds only
   [[nodiscard]] std::size_t size() const { return x.size(); }
+  [[nodiscard]] bool has_twin(std::size_t i) const { return !twin.empty() && twin[i] != 0; }
   void clear();
 };
 
-/// Fills `cloud` from every valid cell of every layer of `frame`. No allocation once the
-/// vectors have grown to the largest frame seen.
-void build_cloud(const Frame& frame, const Extrinsics& extrinsics, Cloud& cloud);
+/// Fills `cloud` from every valid cell of every layer of `frame`; with `deduplicate`, dual
+/// frames keep one point per distinct echo (see Cloud). No allocation once the vectors have
+/// grown to the largest frame seen.
+void build_cloud(const Frame& frame, const Extrinsics& extrinsics, bool deduplicate, Cloud& cloud);
 
 class Method {
  public:

@@ -240,7 +240,9 @@ class TangentMethod final : public Method {
       if (!eq3_inlier(p, cloud.x[i], cloud.y[i], cloud.z[i], tangents_.x[i], tangents_.y[i],
                       tangents_.z[i], band, sin_delta_))
         continue;
-      fits[s].add(cloud.x[i], cloud.y[i], cloud.z[i]);
+      // A twin stands for the last return's cell too: both echoes weigh in, as before
+      // deduplication.
+      fits[s].add(cloud.x[i], cloud.y[i], cloud.z[i], cloud.has_twin(i) ? 2 : 1);
       rings[s] |= 1u << (cloud.ring[i] & 31u);
     }
     const float min_nz = std::cos(static_cast<float>(cfg_.max_tilt_deg) * kDegToRad);
@@ -417,9 +419,9 @@ class TangentMethod final : public Method {
     for (Index i = 0; i < cloud.size(); ++i) {
       const Index cell = cloud.cell[i];
       const int layer = cloud.layer[i];
-      auto& lab = out.label[layer][cell];
       if (!any) {
-        lab = static_cast<std::uint8_t>(GroundLabel::obstacle);
+        out.label[layer][cell] = static_cast<std::uint8_t>(GroundLabel::obstacle);
+        if (cloud.has_twin(i)) out.label[1][cell] = out.label[layer][cell];
         continue;
       }
       const float x = cloud.x[i], y = cloud.y[i];
@@ -439,7 +441,12 @@ class TangentMethod final : public Method {
         }
       }
       out.height_m[layer][cell] = h;
-      lab = static_cast<std::uint8_t>(ground ? GroundLabel::ground : GroundLabel::obstacle);
+      out.label[layer][cell] =
+          static_cast<std::uint8_t>(ground ? GroundLabel::ground : GroundLabel::obstacle);
+      if (cloud.has_twin(i)) {  // the same echo in the last layer
+        out.height_m[1][cell] = h;
+        out.label[1][cell] = out.label[layer][cell];
+      }
     }
   }
 
