@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "hypotheses.hpp"
+#include "labelling.hpp"
 #include "method.hpp"
 #include "partition_search.hpp"
 #include "ring_reach.hpp"
@@ -113,7 +114,7 @@ class TangentMethod final : public Method {
     if (in.hypotheses > 0) found = search_partition(in, search_scratch_);
     out.timings.search_ms = ms_since(t);
     choose_planes(found, cloud, out);
-    label(frame, cloud, out);
+    label(cloud, out);
     out.timings.labelling_ms = ms_since(t);
   }
 
@@ -229,19 +230,27 @@ class TangentMethod final : public Method {
     refine_pass(cloud, out, std::min(eps_, label_up_), false);
   }
 
+  [[nodiscard]] PointFacts facts() const { return {&tangents_, steep_.data(), point_bin_.data()}; }
+
+  [[nodiscard]] static SegmentPlanes segment_planes(const GroundResult& out, bool own_only) {
+    SegmentPlanes sp;
+    for (int s = 0; s < 4; ++s) {
+      sp.plane[s] = out.segments[idx(s)].plane;
+      sp.usable[s] = !own_only || out.segments[idx(s)].has_ground;
+    }
+    sp.cx = out.centre_x_m;
+    sp.cy = out.centre_y_m;
+    return sp;
+  }
+
   void refine_pass(const Cloud& cloud, GroundResult& out, float band, bool check_rings) {
+    find_support(cloud, facts(), segment_planes(out, true), band, sin_delta_, support_);
     PlaneFit fits[4];
     std::uint32_t rings[4] = {0, 0, 0, 0};  // rings contributing inliers, one bit each
     for (Index i = 0; i < cloud.size(); ++i) {
-      if (point_bin_[i] < 0 || !tangents_.valid[i] || steep_[i]) continue;
-      const int s = segment_of(out, cloud.x[i], cloud.y[i]);
-      const Plane& p = out.segments[idx(s)].plane;
-      if (!out.segments[idx(s)].has_ground) continue;
-      if (!eq3_inlier(p, cloud.x[i], cloud.y[i], cloud.z[i], tangents_.x[i], tangents_.y[i],
-                      tangents_.z[i], band, sin_delta_))
-        continue;
-      // A twin stands for the last return's cell too: both echoes weigh in, as before
-      // deduplication.
+      const int s = support_[i];
+      if (s > 3) continue;
+      // A twin stands for the last return's cell too: both echoes weigh in.
       fits[s].add(cloud.x[i], cloud.y[i], cloud.z[i], cloud.has_twin(i) ? 2 : 1);
       rings[s] |= 1u << (cloud.ring[i] & 31u);
     }
@@ -398,54 +407,31 @@ class TangentMethod final : public Method {
     inherit(f, out);
   }
 
-  // Label rule for one plane: height window (grown beyond the fit radius) and, when the
-  // return has a tangent, the eq. 3 angle test with twice delta.
-  [[nodiscard]] bool ground_by(const Plane& p, Index i, const Cloud& cloud, float h, float grow,
-                               float sin_label) const {
-    (void)cloud;
-    const float up = steep_[i] ? std::min(label_up_, steep_up_) : label_up_;
-    if (!(h < up + grow && h > -label_down_ - grow)) return false;
-    if (!tangents_.valid[i]) return true;
-    const float dot = p.nx * tangents_.x[i] + p.ny * tangents_.y[i] + p.nz * tangents_.z[i];
-    return std::abs(dot) < sin_label;
-  }
-
-  void label(const Frame& frame, const Cloud& cloud, GroundResult& out) const {
+  void label(const Cloud& cloud, GroundResult& out) {
     bool any = false;
     for (bool o : own_) any = any || o;
-    const float sin_label = std::sin(2.0f * static_cast<float>(cfg_.tangent_angle_deg) * kDegToRad);
-    const float growth = static_cast<float>(cfg_.label_growth_per_m);
-    (void)frame;
+    if (any) {
+      LabelRule rule;
+      rule.up = label_up_;
+      rule.steep_up = steep_up_;
+      rule.down = label_down_;
+      rule.growth = static_cast<float>(cfg_.label_growth_per_m);
+      rule.radius = radius_;
+      rule.sin_label = std::sin(2.0f * static_cast<float>(cfg_.tangent_angle_deg) * kDegToRad);
+      rule.soft_m = soft_m_;
+      label_points(cloud, facts(), segment_planes(out, false), rule, ground_, height_);
+    }
+    constexpr auto kGround = static_cast<std::uint8_t>(GroundLabel::ground);
+    constexpr auto kObstacle = static_cast<std::uint8_t>(GroundLabel::obstacle);
     for (Index i = 0; i < cloud.size(); ++i) {
       const Index cell = cloud.cell[i];
       const int layer = cloud.layer[i];
-      if (!any) {
-        out.label[layer][cell] = static_cast<std::uint8_t>(GroundLabel::obstacle);
-        if (cloud.has_twin(i)) out.label[1][cell] = out.label[layer][cell];
-        continue;
-      }
-      const float x = cloud.x[i], y = cloud.y[i];
-      const int own = segment_of(out, x, y);
-      const float grow = growth * std::max(0.f, cloud.range_xy[i] - radius_);
-      const bool near_x = std::abs(x - out.centre_x_m) < soft_m_;
-      const bool near_y = std::abs(y - out.centre_y_m) < soft_m_;
-      float h = signed_height(out.segments[idx(own)].plane, x, y, cloud.z[i]);
-      bool ground = ground_by(out.segments[idx(own)].plane, i, cloud, h, grow, sin_label);
-      for (int flip : {1, 2, 3}) {
-        if (ground || (flip & 1 && !near_x) || (flip & 2 && !near_y)) continue;
-        const Plane& q = out.segments[idx(own ^ flip)].plane;
-        float hq = signed_height(q, x, y, cloud.z[i]);
-        if (ground_by(q, i, cloud, hq, grow, sin_label)) {
-          ground = true;
-          h = hq;
-        }
-      }
-      out.height_m[layer][cell] = h;
-      out.label[layer][cell] =
-          static_cast<std::uint8_t>(ground ? GroundLabel::ground : GroundLabel::obstacle);
+      const std::uint8_t label = any && ground_[i] != 0 ? kGround : kObstacle;
+      out.label[layer][cell] = label;
+      if (any) out.height_m[layer][cell] = height_[i];
       if (cloud.has_twin(i)) {  // the same echo in the last layer
-        out.height_m[1][cell] = h;
-        out.label[1][cell] = out.label[layer][cell];
+        out.label[1][cell] = label;
+        if (any) out.height_m[1][cell] = height_[i];
       }
     }
   }
@@ -468,6 +454,8 @@ class TangentMethod final : public Method {
   std::vector<std::int32_t> scores_;
   SearchScratch search_scratch_;
   bool own_[4] = {false, false, false, false};
+  std::vector<std::uint8_t> support_, ground_;
+  std::vector<float> height_;
 };
 
 }  // namespace
