@@ -99,7 +99,7 @@ inline void write_point(const Row& row, int col, Index k, const Out& o) {
 // Branchless compaction: every cell is written at slot k, which advances only past valid
 // cells (so the arrays have one spare slot at the end). Returns the next free slot.
 VLPGROUND_VECTOR_CLONES
-Index append_row(const Row& row, Index k, const Out& o) {
+Index append_row(const Row row, Index k, const Out o) {
   for (int col = 0; col < row.columns; ++col) {
     write_point(row, col, k, o);
     k += row.valid[col];
@@ -109,7 +109,7 @@ Index append_row(const Row& row, Index k, const Out& o) {
 
 // p = R s + t and the horizontal range from the sensor, for points [0, n) in place.
 VLPGROUND_VECTOR_CLONES
-void transform_points(const Transform& tr, Index n, const Out& o) {
+void transform_points(const Transform tr, Index n, const Out o) {
   const float(&r)[3][3] = tr.r;
   for (Index k = 0; k < n; ++k) {
     const float sx = o.x[k], sy = o.y[k], sz = o.z[k];
@@ -128,8 +128,8 @@ void transform_points(const Transform& tr, Index n, const Out& o) {
 // (same point) adds no point; its strongest twin k0 is marked and stands for it in
 // last_rows (slot p). k0 walks the strongest points of the same row.
 VLPGROUND_VECTOR_CLONES
-Index append_last_row(const Row& row, const Row& strongest, const std::uint8_t* same_echo, Index k,
-                      Index k0, Index& p, const Out& o) {
+Index append_last_row(const Row row, const Row strongest, const std::uint8_t* same_echo, Index k,
+                      Index k0, Index& p, const Out o) {
   for (int col = 0; col < row.columns; ++col) {
     const bool same_point = row.x[col] == strongest.x[col] && row.y[col] == strongest.y[col] &&
                             row.z[col] == strongest.z[col];

@@ -31,7 +31,7 @@ struct Kernel {
 // Eq. 3 (line 1: |n.x + d| < eps, line 2: |n.t| < sin(delta)) and the below penalty, the
 // same float operations as score_reference.
 VLPGROUND_VECTOR_CLONES
-void score_all(const Kernel& q, const ScoreParams p, std::int32_t* __restrict scores) {
+void score_all(const Kernel q, const ScoreParams p, std::int32_t* __restrict scores) {
   for (Index s = 0; s < q.slots; ++s) {
     const auto begin = static_cast<Index>(q.start[s]), end = static_cast<Index>(q.start[s + 1]);
     std::int32_t* row = scores + s * q.m_count;
