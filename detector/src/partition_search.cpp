@@ -89,26 +89,31 @@ SearchResult search_streaming(const SearchInput& in, std::vector<Acc>& scratch) 
     std::fill_n(acc, m_count, 0);
     std::fill_n(acc_bottom, m_count, 0);
     for (int c = 0; c < b; ++c) {
-      // Segment sums from I(c,r), I(B,r), I(c,B), I(B,B); maxima as one vectorisable pass.
-      Acc m0 = acc[0], m1 = Acc(row_total[0] - acc[0]), m2 = Acc(acc_bottom[0] - acc[0]);
-      Acc m3 = Acc(total[0] - row_total[0] - acc_bottom[0] + acc[0]);
-      for (Index m = 1; m < m_count; ++m) {
+      const Acc* p = col_prefix + idx(c) * m_count;
+      const Acc* t = col_total + idx(c) * m_count;
+      // Segment sums from I(c,r), I(B,r), I(c,B), I(B,B), their maxima, and the step to
+      // column c + 1, as one vectorisable pass over M.
+      Acc m0 = std::numeric_limits<Acc>::min(), m1 = m0, m2 = m0, m3 = m0;
+      for (Index m = 0; m < m_count; ++m) {
         const Acc i = acc[m], ib = row_total[m], ic = acc_bottom[m];
         m0 = std::max(m0, i);
         m1 = std::max(m1, Acc(ib - i));
         m2 = std::max(m2, Acc(ic - i));
         m3 = std::max(m3, Acc(total[m] - ib - ic + i));
+        acc[m] = Acc(i + p[m]);
+        acc_bottom[m] = Acc(ic + t[m]);
       }
       if (consider_centre(in, {m0, m1, m2, m3}, c, r, result, ground)) {
+        // Rare: the sums of this centre are those before the step just taken.
         for (int s = 0; s < 4; ++s) {
           result.plane[idx(s)] = -1;
           if (!ground[idx(s)]) continue;
           const std::int64_t want = std::array<Acc, 4>{m0, m1, m2, m3}[idx(s)];
           for (Index m = 0; m < m_count; ++m) {
-            const Acc i = acc[m], ib = row_total[m], ic = acc_bottom[m];
+            const Acc i = Acc(acc[m] - p[m]), ib = row_total[m], ic = Acc(acc_bottom[m] - t[m]);
             const Acc v = s == 0   ? i
-                          : s == 1 ? ib - i
-                          : s == 2 ? ic - i
+                          : s == 1 ? Acc(ib - i)
+                          : s == 2 ? Acc(ic - i)
                                    : Acc(total[m] - ib - ic + i);
             if (v == want) {
               result.plane[idx(s)] = static_cast<int>(m);
@@ -116,12 +121,6 @@ SearchResult search_streaming(const SearchInput& in, std::vector<Acc>& scratch) 
             }
           }
         }
-      }
-      const Acc* p = col_prefix + idx(c) * m_count;
-      const Acc* t = col_total + idx(c) * m_count;
-      for (Index m = 0; m < m_count; ++m) {
-        acc[m] = Acc(acc[m] + p[m]);
-        acc_bottom[m] = Acc(acc_bottom[m] + t[m]);
       }
     }
     for (int c = 0; c < b; ++c) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vlpground_internal/vector_clones.hpp"
+
 namespace vlpground::detail {
 
 namespace {
@@ -98,6 +100,7 @@ void tangent_at(const Rows& rows, const TangentParams& params, Index i, Tangents
 
 }  // namespace
 
+VLPGROUND_VECTOR_CLONES
 void compute_tangents(const Cloud& cloud, const TangentParams& params, Tangents& out) {
   const Index n = cloud.size();
   out.x.resize(n);
