@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "binning.hpp"
 #include "hypotheses.hpp"
 #include "labelling.hpp"
 #include "method.hpp"
@@ -24,7 +25,6 @@ using Clock = std::chrono::steady_clock;
 using Index = std::size_t;
 
 Index idx(int v) { return static_cast<Index>(v); }
-Index idx(std::int32_t v, int) { return static_cast<Index>(v); }
 
 double ms_since(Clock::time_point& t) {
   const auto now = Clock::now();
@@ -74,6 +74,14 @@ class TangentMethod final : public Method {
     label_down_ = static_cast<float>(c.label_below_m);
     steep_up_ = static_cast<float>(c.steep_label_height_m);
     soft_m_ = kSoftBoundaryBins * bin_;
+    grid_.bins = bins_;
+    grid_.bin_m = bin_;
+    grid_.half_m = half_;
+    grid_.origin_x = origin_x_;
+    grid_.origin_y = origin_y_;
+    grid_.radius_m = radius_;
+    grid_.sub = sub_;
+    grid_.band_m = kCandidateBand_m;
   }
 
   void detect(const Frame& frame, const Cloud& cloud, GroundResult& out) override {
@@ -85,8 +93,8 @@ class TangentMethod final : public Method {
     measure_ring_slopes(frame, ring_slopes_);
     mark_steep(cloud, steep_);
     out.timings.tangents_ms = ms_since(t);
-    bin_points(cloud);
-    select_candidates(cloud);
+    binning_.sort(cloud, grid_);
+    binning_.select(cloud, grid_, tangents_, steep_, cand_, bin_slot_, low_);
     SamplingParams sp;
     sp.bins = bins_;
     sp.hypotheses = cfg_.hypotheses;
@@ -109,7 +117,8 @@ class TangentMethod final : public Method {
     in.slot_scores = scores_.data();
     in.min_segment_score = cfg_.min_segment_inliers;
     in.allow_empty_segments = true;
-    in.score_bound = static_cast<std::int64_t>(cand_.x.size()) * std::max(1, cfg_.below_penalty);
+    in.score_bound =
+        static_cast<std::int64_t>(cand_.start.back()) * std::max(1, cfg_.below_penalty);
     SearchResult found;
     if (in.hypotheses > 0) found = search_partition(in, search_scratch_);
     out.timings.search_ms = ms_since(t);
@@ -119,92 +128,6 @@ class TangentMethod final : public Method {
   }
 
  private:
-  [[nodiscard]] int bin_of(float x, float y) const {
-    const float fx = (x - origin_x_ + half_) / bin_, fy = (y - origin_y_ + half_) / bin_;
-    if (!(fx >= 0 && fy >= 0)) return -1;
-    const int c = static_cast<int>(fx), r = static_cast<int>(fy);
-    if (c >= bins_ || r >= bins_) return -1;
-    return r * bins_ + c;
-  }
-
-  // Counting sort of the fitting returns (within the radius and the square) by bin.
-  void bin_points(const Cloud& cloud) {
-    const Index n = cloud.size(), nb = idx(bins_ * bins_);
-    point_bin_.resize(n);
-    bin_start_.assign(nb + 1, 0);
-    for (Index i = 0; i < n; ++i) {
-      const int b = cloud.range_xy[i] <= radius_ ? bin_of(cloud.x[i], cloud.y[i]) : -1;
-      point_bin_[i] = b;
-      if (b >= 0) ++bin_start_[idx(b) + 1];
-    }
-    for (Index b = 0; b < nb; ++b) bin_start_[b + 1] += bin_start_[b];
-    sorted_.resize(idx(bin_start_[nb]));
-    fill_.assign(bin_start_.begin(), bin_start_.end() - 1);
-    for (Index i = 0; i < n; ++i)
-      if (point_bin_[i] >= 0)
-        sorted_[idx(fill_[idx(point_bin_[i])]++)] = static_cast<std::int32_t>(i);
-  }
-
-  // Per bin: scoring candidates (sub-sampled on the sub_ x sub_ grid, within the band above
-  // the bin's lowest return) and the low point used for sampling hypotheses.
-  void select_candidates(const Cloud& cloud) {
-    const Index nb = idx(bins_ * bins_);
-    bin_slot_.assign(nb, -1);
-    low_.slot_of_bin.assign(nb, -1);
-    cand_.clear();
-    for (auto* v : {&low_.x, &low_.y, &low_.z, &low_.tx, &low_.ty, &low_.tz}) v->clear();
-    low_.col.clear();
-    low_.row.clear();
-    stamp_.resize(idx(std::max(1, sub_ * sub_)));
-    for (Index b = 0; b < nb; ++b) {
-      const Index begin = idx(bin_start_[b]), end = idx(bin_start_[b + 1]);
-      if (begin == end) continue;
-      float zmin = std::numeric_limits<float>::max();
-      for (Index k = begin; k < end; ++k) zmin = std::min(zmin, cloud.z[idx(sorted_[k], 0)]);
-      if (++stamp_value_ == 0) std::fill(stamp_.begin(), stamp_.end(), stamp_value_++);
-      const auto slot = static_cast<std::int32_t>(cand_.start.size());
-      cand_.start.push_back(static_cast<std::int32_t>(cand_.x.size()));
-      bin_slot_[b] = slot;
-      const int col = static_cast<int>(b % idx(bins_)), row = static_cast<int>(b / idx(bins_));
-      const float x0 = origin_x_ - half_ + static_cast<float>(col) * bin_;
-      const float y0 = origin_y_ - half_ + static_cast<float>(row) * bin_;
-      Index lowest = end;
-      for (Index k = begin; k < end; ++k) {
-        const Index i = idx(sorted_[k], 0);
-        if (cloud.z[i] > zmin + kCandidateBand_m) continue;
-        if (sub_ > 0) {
-          const int sx = std::min(
-              sub_ - 1, static_cast<int>((cloud.x[i] - x0) / bin_ * static_cast<float>(sub_)));
-          const int sy = std::min(
-              sub_ - 1, static_cast<int>((cloud.y[i] - y0) / bin_ * static_cast<float>(sub_)));
-          std::uint32_t& s = stamp_[idx(std::max(0, sy) * sub_ + std::max(0, sx))];
-          if (s == stamp_value_) continue;
-          s = stamp_value_;
-        }
-        cand_.x.push_back(cloud.x[i]);
-        cand_.y.push_back(cloud.y[i]);
-        cand_.z.push_back(cloud.z[i]);
-        const bool ground_like = tangents_.valid[i] && !steep_[i];
-        // A steep return keeps its place for the below penalty but is never an inlier.
-        cand_.tx.push_back(ground_like ? tangents_.x[i] : 0.f);
-        cand_.ty.push_back(ground_like ? tangents_.y[i] : 0.f);
-        cand_.tz.push_back(ground_like ? tangents_.z[i] : kNoTangentZ);
-        if (ground_like && (lowest == end || cloud.z[i] < cloud.z[lowest])) lowest = i;
-      }
-      if (lowest == end) continue;
-      low_.slot_of_bin[b] = static_cast<std::int32_t>(low_.x.size());
-      low_.x.push_back(cloud.x[lowest]);
-      low_.y.push_back(cloud.y[lowest]);
-      low_.z.push_back(cloud.z[lowest]);
-      low_.tx.push_back(tangents_.x[lowest]);
-      low_.ty.push_back(tangents_.y[lowest]);
-      low_.tz.push_back(tangents_.z[lowest]);
-      low_.col.push_back(col);
-      low_.row.push_back(row);
-    }
-    cand_.start.push_back(static_cast<std::int32_t>(cand_.x.size()));
-  }
-
   // Segment s of the found partition; x/y bounds in the vehicle frame.
   void set_bounds(const SearchResult& f, GroundResult& out) const {
     const float x_lo = origin_x_ - half_, y_lo = origin_y_ - half_;
@@ -230,7 +153,9 @@ class TangentMethod final : public Method {
     refine_pass(cloud, out, std::min(eps_, label_up_), false);
   }
 
-  [[nodiscard]] PointFacts facts() const { return {&tangents_, steep_.data(), point_bin_.data()}; }
+  [[nodiscard]] PointFacts facts() const {
+    return {&tangents_, steep_.data(), binning_.point_bin().data()};
+  }
 
   [[nodiscard]] static SegmentPlanes segment_planes(const GroundResult& out, bool own_only) {
     SegmentPlanes sp;
@@ -443,12 +368,11 @@ class TangentMethod final : public Method {
   Tangents tangents_;
   RingSlopes ring_slopes_{};
   std::vector<std::uint8_t> steep_;
-  std::vector<int> point_bin_;
-  std::vector<std::int32_t> bin_start_, fill_, sorted_, bin_slot_;
+  GridSpec grid_;
+  Binning binning_;
+  std::vector<std::int32_t> bin_slot_;
   Candidates cand_;
   SlotScorer scorer_;
-  std::vector<std::uint32_t> stamp_;
-  std::uint32_t stamp_value_ = 0;
   LowPoints low_;
   PlaneSet planes_;
   std::vector<std::int32_t> scores_;
