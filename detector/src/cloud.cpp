@@ -126,20 +126,24 @@ void transform_points(const Transform tr, Index n, const Out o) {
 
 // A last-layer row of a deduplicated cloud: a cell repeating the strongest echo exactly
 // (same point) adds no point; its strongest twin k0 is marked and stands for it in
-// last_rows (slot p). k0 walks the strongest points of the same row.
+// last_rows (slot p). k0 walks the strongest points of the same row. Most cells repeat
+// the strongest echo, so the branch is well predicted.
 VLPGROUND_VECTOR_CLONES
 Index append_last_row(const Row row, const Row strongest, const std::uint8_t* same_echo, Index k,
                       Index k0, Index& p, const Out o) {
   for (int col = 0; col < row.columns; ++col) {
-    const bool same_point = row.x[col] == strongest.x[col] && row.y[col] == strongest.y[col] &&
-                            row.z[col] == strongest.z[col];
-    const unsigned dup =
-        same_echo[col] & strongest.valid[col] & row.valid[col] & static_cast<unsigned>(same_point);
-    write_point(row, col, k, o);
-    o.twin[k0] = static_cast<std::uint8_t>(o.twin[k0] | dup);
-    o.last_rows[p] = static_cast<std::uint32_t>(dup != 0 ? k0 : k);
-    p += row.valid[col];
-    k += row.valid[col] & (dup ^ 1u);
+    const bool same_point = (row.x[col] == strongest.x[col]) & (row.y[col] == strongest.y[col]) &
+                            (row.z[col] == strongest.z[col]);
+    const bool dup = (same_echo[col] & strongest.valid[col] & row.valid[col]) != 0 && same_point;
+    if (dup) {
+      o.twin[k0] = 1;
+      o.last_rows[p++] = static_cast<std::uint32_t>(k0);
+    } else {
+      write_point(row, col, k, o);
+      o.last_rows[p] = static_cast<std::uint32_t>(k);
+      p += row.valid[col];
+      k += row.valid[col];
+    }
     k0 += strongest.valid[col];
   }
   return k;
