@@ -5,13 +5,13 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
-#include <limits>
 
 #include "binning.hpp"
 #include "hypotheses.hpp"
 #include "labelling.hpp"
 #include "method.hpp"
 #include "partition_search.hpp"
+#include "plane_checks.hpp"
 #include "ring_reach.hpp"
 #include "scoring.hpp"
 #include "steep.hpp"
@@ -45,17 +45,6 @@ constexpr int kMinGroundRings = 3;
 // is neither.
 constexpr float kSoftBoundaryBins = 2.0f;
 
-float signed_height(const Plane& p, float x, float y, float z) {
-  return p.nx * x + p.ny * y + p.nz * z + p.d;
-}
-
-float plane_z(const Plane& p, float x, float y) { return -(p.nx * x + p.ny * y + p.d) / p.nz; }
-float slope_x(const Plane& p) { return -p.nx / p.nz; }
-float slope_y(const Plane& p) { return -p.ny / p.nz; }
-float plane_gap(const Plane& a, const Plane& b, float x, float y) {
-  return std::abs(plane_z(a, x, y) - plane_z(b, x, y));
-}
-
 class TangentMethod final : public Method {
  public:
   explicit TangentMethod(const DetectorConfig& c) : cfg_(c) {
@@ -82,6 +71,18 @@ class TangentMethod final : public Method {
     grid_.radius_m = radius_;
     grid_.sub = sub_;
     grid_.band_m = kCandidateBand_m;
+    score_params_.eps = eps_;
+    score_params_.sin_delta = sin_delta_;
+    score_params_.below = -static_cast<float>(c.below_distance_m);
+    score_params_.penalty = c.below_penalty;
+    agreement_.origin_x = origin_x_;
+    agreement_.origin_y = origin_y_;
+    agreement_.sensor_z = static_cast<float>(c.extrinsics.z_m);
+    agreement_.min_sensor_height_m = c.min_sensor_height_m;
+    agreement_.max_sensor_height_m = c.max_sensor_height_m;
+    agreement_.max_step_m = c.max_step_m;
+    agreement_.soft_m = soft_m_;
+    agreement_.radius_m = radius_;
   }
 
   void detect(const Frame& frame, const Cloud& cloud, GroundResult& out) override {
@@ -103,12 +104,7 @@ class TangentMethod final : public Method {
     sp.seed = cfg_.seed;
     sample_hypotheses(low_, sp, planes_);
     out.timings.hypotheses_ms = ms_since(t);
-    ScoreParams score_params;
-    score_params.eps = eps_;
-    score_params.sin_delta = sin_delta_;
-    score_params.below = -static_cast<float>(cfg_.below_distance_m);
-    score_params.penalty = cfg_.below_penalty;
-    scorer_.score(cand_, planes_, score_params, scores_);
+    scorer_.score(cand_, planes_, score_params_, scores_);
     out.timings.inliers_ms = ms_since(t);
     SearchInput in;
     in.bins = bins_;
@@ -140,10 +136,6 @@ class TangentMethod final : public Method {
       g.y_min_m = (s & 2) ? out.centre_y_m : y_lo;
       g.y_max_m = (s & 2) ? y_lo + 2 * half_ : out.centre_y_m;
     }
-  }
-
-  [[nodiscard]] static int segment_of(const GroundResult& out, float x, float y) {
-    return (x >= out.centre_x_m ? 1 : 0) + (y >= out.centre_y_m ? 2 : 0);
   }
 
   // Least-squares refinement of each segment plane on its full-resolution eq. 3 inliers.
@@ -211,114 +203,6 @@ class TangentMethod final : public Method {
     return signed_height(p, origin_x_, origin_y_, static_cast<float>(cfg_.extrinsics.z_m));
   }
 
-  // Plausibility (docs/detector.md): the anchor is the best-scoring segment whose plane lies
-  // a sensor height under the sensor; a segment whose plane disagrees with the anchor's near
-  // the partition centre (where they meet) by more than max_step_m has no ground.
-  void check_agreement(const SearchResult& f, GroundResult& out) const {
-    int anchor = -1;
-    for (int s = 0; s < 4; ++s) {
-      const GroundSegment& g = out.segments[idx(s)];
-      const double h = sensor_height_over(g.plane);
-      if (!g.has_ground || h < cfg_.min_sensor_height_m || h > cfg_.max_sensor_height_m) continue;
-      if (anchor < 0 || f.score[idx(s)] > f.score[idx(anchor)]) anchor = s;
-    }
-    if (anchor < 0) {
-      for (GroundSegment& g : out.segments) g.has_ground = false;
-      return;
-    }
-    // The segment under the sensor must itself pass the sensor-height prior.
-    GroundSegment& own = out.segments[idx(segment_of(out, origin_x_, origin_y_))];
-    const double h_own = sensor_height_over(own.plane);
-    if (h_own < cfg_.min_sensor_height_m || h_own > cfg_.max_sensor_height_m)
-      own.has_ground = false;
-    const Plane& a = out.segments[idx(anchor)].plane;
-    for (GroundSegment& g : out.segments) {
-      if (!g.has_ground) continue;
-      // The planes must come within max_step_m of each other within soft_m_ of the centre:
-      // the gap there shrinks by at most soft_m_ times the gradient of their difference.
-      const float gap = plane_gap(g.plane, a, out.centre_x_m, out.centre_y_m);
-      const float gradient =
-          std::hypot(slope_x(g.plane) - slope_x(a), slope_y(g.plane) - slope_y(a));
-      if (gap - soft_m_ * gradient > cfg_.max_step_m) g.has_ground = false;
-    }
-    check_edges(out, anchor);
-  }
-
-  // Adjacent segments with their own ground must also agree along their shared edge (at
-  // 5, 10, 15 m from the centre, inside the fit radius); otherwise the higher one
-  // (never the anchor) loses its ground. A tilted plane through car sides or a facade can
-  // meet the anchor at the centre yet rise a metre above the terrain further out.
-  void check_edges(GroundResult& out, int anchor) const {
-    // Pairs sharing the line x = cx (direction +-y) or y = cy (direction +-x).
-    constexpr int kPairs[4][2] = {{0, 1}, {2, 3}, {0, 2}, {1, 3}};
-    constexpr float kDir[4][2] = {{0, -1}, {0, 1}, {-1, 0}, {1, 0}};
-    for (int k = 0; k < 4; ++k) {
-      GroundSegment& a = out.segments[idx(kPairs[k][0])];
-      GroundSegment& b = out.segments[idx(kPairs[k][1])];
-      if (!a.has_ground || !b.has_ground) continue;
-      float worst = 0;  // signed: a's height minus b's where they differ most
-      for (float dist : {5.f, 10.f, 15.f}) {
-        const float x = out.centre_x_m + kDir[k][0] * dist, y = out.centre_y_m + kDir[k][1] * dist;
-        if (std::hypot(x - origin_x_, y - origin_y_) > radius_) break;
-        const float diff = plane_z(a.plane, x, y) - plane_z(b.plane, x, y);
-        if (std::abs(diff) > std::abs(worst)) worst = diff;
-      }
-      // Slack across the edge: the terrain break may sit a few metres off the cut line.
-      const float across = kDir[k][0] != 0 ? slope_y(a.plane) - slope_y(b.plane)
-                                           : slope_x(a.plane) - slope_x(b.plane);
-      if (std::abs(worst) - soft_m_ * std::abs(across) <= cfg_.max_step_m) continue;
-      // Ground is the lower envelope: the plane riding higher is the implausible one.
-      int loser = worst > 0 ? kPairs[k][0] : kPairs[k][1];
-      if (loser == anchor) loser = kPairs[k][0] + kPairs[k][1] - loser;
-      out.segments[idx(loser)].has_ground = false;
-    }
-  }
-
-  // Net score (b_m of Algorithm 1: eq. 3 inliers minus the below penalty) of plane p over
-  // the scoring candidates of the bins of segment s of the partition.
-  [[nodiscard]] std::int64_t segment_fit(const SearchResult& f, int s, const Plane& p) const {
-    const int c0 = (s & 1) ? f.centre_col : 0, c1 = (s & 1) ? bins_ : f.centre_col;
-    const int r0 = (s & 2) ? f.centre_row : 0, r1 = (s & 2) ? bins_ : f.centre_row;
-    const float below = -static_cast<float>(cfg_.below_distance_m);
-    std::int64_t sum = 0;
-    for (int r = r0; r < r1; ++r)
-      for (int c = c0; c < c1; ++c) {
-        const std::int32_t slot = bin_slot_[idx(r * bins_ + c)];
-        if (slot < 0) continue;
-        const Candidates& q = cand_;
-        for (Index k = idx(q.start[idx(slot)]); k < idx(q.start[idx(slot) + 1]); ++k) {
-          sum += eq3_inlier(p, q.x[k], q.y[k], q.z[k], q.tx[k], q.ty[k], q.tz[k], eps_, sin_delta_);
-          if (signed_height(p, q.x[k], q.y[k], q.z[k]) < below) sum -= cfg_.below_penalty;
-        }
-      }
-    return sum;
-  }
-
-  // A segment without ground inherits the plane of the neighbour whose hypothesis explains
-  // the segment's own returns best (a far segment beyond a grade change takes the plane of
-  // the segment across the cut along the slope, not the larger one across the grade);
-  // without such evidence, the best-scoring neighbour's.
-  void inherit(const SearchResult& f, GroundResult& out) {
-    for (int s = 0; s < 4; ++s) own_[s] = out.segments[idx(s)].has_ground;
-    for (int s = 0; s < 4; ++s) {
-      if (own_[s]) continue;
-      int donor = -1;
-      std::int64_t best_fit = 0;
-      for (int o : {s ^ 1, s ^ 2, s ^ 3}) {
-        if (!own_[o]) continue;
-        const std::int64_t fit = segment_fit(f, s, out.segments[idx(o)].plane);
-        if (donor < 0 || fit > best_fit ||
-            (fit == best_fit && f.score[idx(o)] > f.score[idx(donor)])) {
-          donor = o;
-          best_fit = fit;
-        }
-      }
-      if (donor < 0) continue;
-      out.segments[idx(s)].plane = out.segments[idx(donor)].plane;
-      out.segments[idx(s)].inherited = true;
-    }
-  }
-
   void choose_planes(const SearchResult& f, const Cloud& cloud, GroundResult& out) {
     set_bounds(f, out);
     for (int s = 0; s < 4; ++s) {
@@ -326,10 +210,11 @@ class TangentMethod final : public Method {
       g.has_ground = f.found && f.plane[idx(s)] >= 0;
       if (g.has_ground) g.plane = planes_.at(idx(f.plane[idx(s)]));
     }
-    check_agreement(f, out);
+    check_agreement(f, agreement_, out);
     refine(cloud, out);
-    check_agreement(f, out);  // refinement may have tilted a plane out of agreement
-    inherit(f, out);
+    check_agreement(f, agreement_, out);  // refinement may have tilted a plane out of agreement
+    for (int s = 0; s < 4; ++s) own_[s] = out.segments[idx(s)].has_ground;
+    inherit_planes(f, SegmentEvidence{&cand_, bin_slot_.data(), bins_, score_params_}, out);
   }
 
   void label(const Cloud& cloud, GroundResult& out) {
@@ -369,6 +254,8 @@ class TangentMethod final : public Method {
   RingSlopes ring_slopes_{};
   std::vector<std::uint8_t> steep_;
   GridSpec grid_;
+  ScoreParams score_params_;
+  AgreementRules agreement_;
   Binning binning_;
   std::vector<std::int32_t> bin_slot_;
   Candidates cand_;
