@@ -39,33 +39,37 @@ bool continuous(const Cloud& c, const TangentParams& p, Index a, Index b) {
   return std::abs(c.range_xy[a] - c.range_xy[b]) <= p.jump_abs_m + p.jump_rel * c.range_xy[a];
 }
 
+// Columns to the neighbour expected at the target chord, from the range and the column
+// angle (the fast path of walk); 0 when the fast path is off.
+inline std::uint16_t fast_step(float range_xy, const TangentParams& p) {
+  if (!(p.column_angle_rad > 0)) return 0;
+  const float spacing = range_xy * p.column_angle_rad;
+  return static_cast<std::uint16_t>(
+      std::clamp(std::ceil(p.target_chord_m / std::max(spacing, 1e-4f)), 1.f,
+                 static_cast<float>(p.max_span_columns)));
+}
+
 // Walks from position i in direction `step` (+1/-1) along its row, over invalid cells
 // (absent from the cloud) but never across a range discontinuity; stops at the first
 // neighbour at least target_chord_m away. Returns i when there is no usable neighbour.
+// k = fast_step of i: first try the neighbour expected at the target chord, taken when it
+// is in the same row and continuous with i.
 template <class Rows>
-Index walk(const Rows& rows, const TangentParams& p, Index i, int step) {
+Index walk(const Rows& rows, const TangentParams& p, Index i, int step, Index k) {
   const Cloud& c = rows.c;
   const Index pi = rows.at(i);
-  // Fast path: jump straight to the neighbour expected at the target chord (from the range
-  // and the column angle) when it is in the same row and continuous with i.
-  if (p.column_angle_rad > 0) {
-    const float spacing = c.range_xy[pi] * p.column_angle_rad;
-    const auto k =
-        static_cast<Index>(std::clamp(std::ceil(p.target_chord_m / std::max(spacing, 1e-4f)), 1.f,
-                                      static_cast<float>(p.max_span_columns)));
-    if (step > 0 ? i + k < rows.size : k <= i) {
-      const Index j = step > 0 ? i + k : i - k, pj = rows.at(j);
-      if (rows.same_row(i, j) &&
-          std::abs(int{c.column[pj]} - int{c.column[pi]}) <= p.max_span_columns &&
-          continuous(c, p, pi, pj))
-        return j;
-    }
+  if (k > 0 && (step > 0 ? i + k < rows.size : k <= i)) {
+    const Index j = step > 0 ? i + k : i - k, pj = rows.at(j);
+    if (rows.same_row(i, j) &&
+        std::abs(int{c.column[pj]} - int{c.column[pi]}) <= p.max_span_columns &&
+        continuous(c, p, pi, pj))
+      return j;
   }
   Index best = i, prev = i;
   const float target_sq = p.target_chord_m * p.target_chord_m;
-  for (Index k = 1;; ++k) {
-    if (step < 0 && k > i) break;
-    const Index j = step > 0 ? i + k : i - k;
+  for (Index s = 1;; ++s) {
+    if (step < 0 && s > i) break;
+    const Index j = step > 0 ? i + s : i - s;
     if (j >= rows.size || !rows.same_row(i, j)) break;
     const Index pj = rows.at(j);
     const int span = std::abs(int{c.column[pj]} - int{c.column[pi]});
@@ -76,26 +80,42 @@ Index walk(const Rows& rows, const TangentParams& p, Index i, int step) {
   return best;
 }
 
-// Central difference of the neighbours found either side of position i (one-sided at ends).
+// Chord between the neighbours found either side of position i (one-sided at ends) into
+// out.x/y/z of its point, valid = 1 when there are two distinct neighbours; normalise()
+// makes it the tangent.
 template <class Rows>
-void tangent_at(const Rows& rows, const TangentParams& params, Index i, Tangents& out) {
+void chord_at(const Rows& rows, const TangentParams& params, Index i, Index k, Tangents& out) {
   const Cloud& cloud = rows.c;
-  const Index a = rows.at(walk(rows, params, i, -1)), b = rows.at(walk(rows, params, i, +1));
+  const Index a = rows.at(walk(rows, params, i, -1, k)), b = rows.at(walk(rows, params, i, +1, k));
   const Index point = rows.at(i);
-  const float dx = cloud.x[b] - cloud.x[a], dy = cloud.y[b] - cloud.y[a],
-              dz = cloud.z[b] - cloud.z[a];
-  const float len = std::sqrt(dx * dx + dy * dy + dz * dz);
-  if (a == b || len < params.min_chord_m) {
-    out.x[point] = 0.f;
-    out.y[point] = 0.f;
-    out.z[point] = kNoTangentZ;
-    out.valid[point] = 0;
-    return;
+  out.x[point] = cloud.x[b] - cloud.x[a];
+  out.y[point] = cloud.y[b] - cloud.y[a];
+  out.z[point] = cloud.z[b] - cloud.z[a];
+  out.valid[point] = static_cast<std::uint8_t>(a != b);
+}
+
+VLPGROUND_VECTOR_CLONES
+void fast_steps(const float* __restrict range, std::size_t n, const TangentParams params,
+                std::uint16_t* __restrict step) {
+  for (Index i = 0; i < n; ++i) step[i] = fast_step(range[i], params);
+}
+
+// Central difference / its length; too short a baseline (or none) is no tangent.
+VLPGROUND_VECTOR_CLONES
+void normalise(std::size_t n, float min_chord, float* __restrict x, float* __restrict y,
+               float* __restrict z, std::uint8_t* __restrict valid) {
+  for (Index i = 0; i < n; ++i) {
+    const float dx = x[i], dy = y[i], dz = z[i];
+    const float len = std::sqrt(dx * dx + dy * dy + dz * dz);
+    const bool ok = (valid[i] != 0) & !(len < min_chord);
+    // Divided unconditionally (a zero length gives a NaN that is not kept) so that the
+    // loop vectorises.
+    const float tx = dx / len, ty = dy / len, tz = dz / len;
+    x[i] = ok ? tx : 0.f;
+    y[i] = ok ? ty : 0.f;
+    z[i] = ok ? tz : kNoTangentZ;
+    valid[i] = static_cast<std::uint8_t>(ok);
   }
-  out.x[point] = dx / len;
-  out.y[point] = dy / len;
-  out.z[point] = dz / len;
-  out.valid[point] = 1;
 }
 
 }  // namespace
@@ -107,14 +127,20 @@ void compute_tangents(const Cloud& cloud, const TangentParams& params, Tangents&
   out.y.resize(n);
   out.z.resize(n);
   out.valid.resize(n);
+  out.step.resize(n);
+  fast_steps(cloud.range_xy.data(), n, params, out.step.data());
   const DirectRows direct{cloud, n};
   const Index own_rows = cloud.deduplicated ? cloud.last_begin : n;
-  for (Index i = 0; i < own_rows; ++i) tangent_at(direct, params, i, out);
-  if (!cloud.deduplicated) return;
-  // A distinct last return: its row as the sensor saw it, twins included.
-  const LastRows last{cloud, cloud.last_rows.size()};
-  for (Index p = 0; p < last.size; ++p)
-    if (cloud.layer[last.at(p)] == 1) tangent_at(last, params, p, out);
+  for (Index i = 0; i < own_rows; ++i) chord_at(direct, params, i, out.step[i], out);
+  if (cloud.deduplicated) {
+    // A distinct last return: its row as the sensor saw it, twins included.
+    const LastRows last{cloud, cloud.last_rows.size()};
+    for (Index p = 0; p < last.size; ++p) {
+      const Index point = last.at(p);
+      if (cloud.layer[point] == 1) chord_at(last, params, p, out.step[point], out);
+    }
+  }
+  normalise(n, params.min_chord_m, out.x.data(), out.y.data(), out.z.data(), out.valid.data());
 }
 
 }  // namespace vlpground::detail

@@ -24,6 +24,7 @@ struct TangentParams {
 struct Tangents {
   std::vector<float> x, y, z;
   std::vector<std::uint8_t> valid;
+  std::vector<std::uint16_t> step;  // scratch: fast-path column step per point
 };
 
 inline constexpr float kNoTangentZ = 4.0f;
