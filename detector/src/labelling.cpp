@@ -69,34 +69,52 @@ inline bool ground_by(float h, float dot, float up, float grow, bool has_tangent
   return in_window & (!has_tangent | (absolute(dot) < r.sin_label));
 }
 
+// Own segment's plane only; returns left obstacle near a partition line are revisited by
+// label_near_lines.
+// Height window of return i: lower on a steep surface, grown beyond the fit radius.
+inline float up_limit(const Lanes& in, Index i, const LabelRule& r) {
+  return in.steep[i] != 0 ? std::min(r.up, r.steep_up) : r.up;
+}
+inline float grow_at(const Lanes& in, Index i, const LabelRule& r) {
+  const float range_out = in.range[i] - r.radius;
+  return r.growth * (range_out > 0.f ? range_out : 0.f);
+}
+
 VLPGROUND_VECTOR_CLONES
-void label_kernel(const Lanes in, Index n, const SegmentPlanes sp, const LabelRule r,
+void label_kernel(const Lanes in, Index n, const SegmentPlanes& sp, const LabelRule r,
                   std::uint8_t* __restrict ground_out, float* __restrict height_out) {
   for (Index i = 0; i < n; ++i) {
     const float x = in.x[i], y = in.y[i], z = in.z[i];
-    const int own = segment_at(x, y, sp.cx, sp.cy);
-    const float range_out = in.range[i] - r.radius;
-    const float grow = r.growth * (range_out > 0.f ? range_out : 0.f);
-    const float up = in.steep[i] != 0 ? std::min(r.up, r.steep_up) : r.up;
-    const bool has_tangent = in.valid[i] != 0;
+    const PlanePick p(sp, segment_at(x, y, sp.cx, sp.cy));
+    const float h = p.nx * x + p.ny * y + p.nz * z + p.d;
+    const float dot = p.nx * in.tx[i] + p.ny * in.ty[i] + p.nz * in.tz[i];
+    ground_out[i] = static_cast<std::uint8_t>(
+        ground_by(h, dot, up_limit(in, i, r), grow_at(in, i, r), in.valid[i] != 0, r));
+    height_out[i] = h;
+  }
+}
+
+// Near a partition line the planes across it may accept a return its own plane refused,
+// tried in this order.
+void label_near_lines(const Lanes in, Index n, const SegmentPlanes& sp, const LabelRule& r,
+                      std::uint8_t* ground, float* height) {
+  for (Index i = 0; i < n; ++i) {
+    if (ground[i] != 0) continue;
+    const float x = in.x[i], y = in.y[i], z = in.z[i];
     const bool near_x = absolute(x - sp.cx) < r.soft_m, near_y = absolute(y - sp.cy) < r.soft_m;
-    const PlanePick own_plane(sp, own);
-    float h = own_plane.nx * x + own_plane.ny * y + own_plane.nz * z + own_plane.d;
-    bool ground =
-        ground_by(h, own_plane.nx * in.tx[i] + own_plane.ny * in.ty[i] + own_plane.nz * in.tz[i],
-                  up, grow, has_tangent, r);
-    // Near a partition line the planes across it may accept the return, in this order.
+    if (!near_x && !near_y) continue;
+    const int own = segment_at(x, y, sp.cx, sp.cy);
     for (int flip = 1; flip < 4; ++flip) {
+      if (((flip & 1) != 0 && !near_x) || ((flip & 2) != 0 && !near_y)) continue;
       const PlanePick q(sp, own ^ flip);
       const float hq = q.nx * x + q.ny * y + q.nz * z + q.d;
       const float dot = q.nx * in.tx[i] + q.ny * in.ty[i] + q.nz * in.tz[i];
-      const bool allowed = (((flip & 1) == 0) | near_x) & (((flip & 2) == 0) | near_y);
-      const bool take = !ground & allowed & ground_by(hq, dot, up, grow, has_tangent, r);
-      h = take ? hq : h;
-      ground = ground | take;
+      if (ground_by(hq, dot, up_limit(in, i, r), grow_at(in, i, r), in.valid[i] != 0, r)) {
+        ground[i] = 1;
+        height[i] = hq;
+        break;
+      }
     }
-    ground_out[i] = static_cast<std::uint8_t>(ground);
-    height_out[i] = h;
   }
 }
 
@@ -117,7 +135,9 @@ void label_points(const Cloud& cloud, const PointFacts& facts, const SegmentPlan
                   std::vector<float>& height) {
   ground.resize(cloud.size());
   height.resize(cloud.size());
-  label_kernel(lanes_of(cloud, facts), cloud.size(), planes, rule, ground.data(), height.data());
+  const Lanes lanes = lanes_of(cloud, facts);
+  label_kernel(lanes, cloud.size(), planes, rule, ground.data(), height.data());
+  label_near_lines(lanes, cloud.size(), planes, rule, ground.data(), height.data());
 }
 
 }  // namespace vlpground::detail
