@@ -1,5 +1,6 @@
 // Building the shared Cloud: every valid return, extrinsics applied, structure of arrays.
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 #include "method.hpp"
@@ -193,6 +194,28 @@ void build_cloud(const Frame& frame, const Extrinsics& extrinsics, bool deduplic
   transform_points(tr, k, out);
   resize_all(cloud, k);
   cloud.last_rows.resize(p);
+}
+
+RingRuns last_row_runs(const Cloud& cloud) {
+  RingRuns runs{};
+  const auto& rows = cloud.last_rows;
+  for (int ring = 0; ring <= kLasers; ++ring) {
+    const auto first = std::partition_point(
+        rows.begin(), rows.end(), [&](std::uint32_t p) { return int{cloud.ring[p]} < ring; });
+    runs[static_cast<Index>(ring)] = static_cast<Index>(first - rows.begin());
+  }
+  return runs;
+}
+
+Index last_row_position(const Cloud& cloud, const RingRuns& runs, int ring, int column) {
+  const auto& rows = cloud.last_rows;
+  const auto r = static_cast<Index>(ring);
+  const auto end = rows.begin() + static_cast<std::ptrdiff_t>(runs[r + 1]);
+  const auto it =
+      std::partition_point(rows.begin() + static_cast<std::ptrdiff_t>(runs[r]), end,
+                           [&](std::uint32_t p) { return int{cloud.column[p]} < column; });
+  if (it == end || int{cloud.column[*it]} != column) return rows.size();
+  return static_cast<Index>(it - rows.begin());
 }
 
 }  // namespace vlpground::detail

@@ -2,6 +2,7 @@
 // lpr). Not installed.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -38,6 +39,14 @@ struct Cloud {
 /// frames keep one point per distinct echo (see Cloud). No allocation once the vectors have
 /// grown to the largest frame seen.
 void build_cloud(const Frame& frame, const Extrinsics& extrinsics, bool deduplicate, Cloud& cloud);
+
+/// Runs of Cloud::last_rows by ring: ring r holds positions [begin[r], begin[r + 1]).
+using RingRuns = std::array<std::size_t, kLasers + 1>;
+RingRuns last_row_runs(const Cloud& cloud);
+
+/// Position in last_rows of the cell (ring, column), or last_rows.size() when it has no
+/// return.
+std::size_t last_row_position(const Cloud& cloud, const RingRuns& runs, int ring, int column);
 
 class Method {
  public:

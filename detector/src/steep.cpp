@@ -11,35 +11,37 @@ using Index = std::size_t;
 
 // [begin, end) of each ring's run in a sequence of points sorted by (ring, column):
 // begin[ring] for ring in [0, kLasers], with begin[kLasers] = the end of the sequence.
-template <class RingOf>
-void ring_bounds(Index first, Index last, RingOf ring_of, Index (&begin)[kLasers + 1]) {
-  Index i = first;
+void ring_bounds(const Cloud& cloud, Index first, Index last, Index (&begin)[kLasers + 1]) {
   for (int ring = 0; ring <= kLasers; ++ring) {
-    while (i < last && ring_of(i) < ring) ++i;
-    begin[ring] = i;
+    const auto it = std::partition_point(cloud.ring.begin() + static_cast<std::ptrdiff_t>(first),
+                                         cloud.ring.begin() + static_cast<std::ptrdiff_t>(last),
+                                         [&](std::uint16_t r) { return int{r} < ring; });
+    begin[ring] = static_cast<Index>(it - cloud.ring.begin());
   }
 }
 
-// Pairs the returns of the same column in adjacent rings (two runs sorted by column) and
-// marks both when the surface between them rises more than 45 degrees. `point` maps a
-// sequence position to its cloud point; only points with `owned` are written.
-template <class PointOf, class Owned>
-void mark_rows(const Cloud& cloud, const Index (&begin)[kLasers + 1], PointOf point, Owned owned,
+// 1 when the surface from point a (lower ring) to b (the ring above) rises over 45 degrees.
+std::uint8_t rises_steeply(const Cloud& cloud, Index a, Index b) {
+  const float dz = cloud.z[b] - cloud.z[a], dr = cloud.range_xy[b] - cloud.range_xy[a];
+  return static_cast<std::uint8_t>(std::abs(dz) > std::abs(dr));
+}
+
+// Pairs the returns of the same column in adjacent rings (runs sorted by column) and marks
+// both when the surface between them rises more than 45 degrees.
+void mark_rows(const Cloud& cloud, const Index (&begin)[kLasers + 1],
                std::vector<std::uint8_t>& steep) {
   for (int ring = 0; ring + 1 < kLasers; ++ring) {
     Index a = begin[ring], b = begin[ring + 1];
     const Index a_end = begin[ring + 1], b_end = begin[ring + 2];
     while (a < a_end && b < b_end) {
-      const Index pa = point(a), pb = point(b);
-      if (cloud.column[pa] < cloud.column[pb]) {
+      if (cloud.column[a] < cloud.column[b]) {
         ++a;
-      } else if (cloud.column[pb] < cloud.column[pa]) {
+      } else if (cloud.column[b] < cloud.column[a]) {
         ++b;
       } else {
-        const float dz = cloud.z[pb] - cloud.z[pa], dr = cloud.range_xy[pb] - cloud.range_xy[pa];
-        const auto rises = static_cast<std::uint8_t>(std::abs(dz) > std::abs(dr));
-        if (owned(pa)) steep[pa] |= rises;
-        if (owned(pb)) steep[pb] |= rises;
+        const std::uint8_t rises = rises_steeply(cloud, a, b);
+        steep[a] |= rises;
+        steep[b] |= rises;
         ++a;
         ++b;
       }
@@ -51,9 +53,6 @@ void mark_rows(const Cloud& cloud, const Index (&begin)[kLasers + 1], PointOf po
 
 void mark_steep(const Cloud& cloud, std::vector<std::uint8_t>& steep) {
   steep.assign(cloud.size(), 0);
-  const auto ring_of_point = [&](Index i) { return int{cloud.ring[i]}; };
-  const auto itself = [](Index i) { return i; };
-  const auto anyone = [](Index) { return true; };
   const Index n = cloud.size();
   Index layer_end[2] = {n, n};
   if (cloud.deduplicated) {
@@ -64,20 +63,27 @@ void mark_steep(const Cloud& cloud, std::vector<std::uint8_t>& steep) {
                                       cloud.layer.begin());
   }
   Index begin[kLasers + 1];
-  ring_bounds(0, layer_end[0], ring_of_point, begin);
-  mark_rows(cloud, begin, itself, anyone, steep);
+  ring_bounds(cloud, 0, layer_end[0], begin);
+  mark_rows(cloud, begin, steep);
   if (!cloud.deduplicated) {
-    ring_bounds(layer_end[0], n, ring_of_point, begin);
-    mark_rows(cloud, begin, itself, anyone, steep);
+    ring_bounds(cloud, layer_end[0], n, begin);
+    mark_rows(cloud, begin, steep);
     return;
   }
-  // Last layer as the sensor saw it (twins included); twins keep their strongest-row flag.
-  const auto& rows = cloud.last_rows;
-  ring_bounds(
-      0, rows.size(), [&](Index p) { return int{cloud.ring[rows[p]]}; }, begin);
-  mark_rows(
-      cloud, begin, [&](Index p) { return Index{rows[p]}; },
-      [&](Index i) { return cloud.layer[i] == 1; }, steep);
+  // A distinct last return meets the last layer as the sensor saw it (twins included) in
+  // the rings below and above; twins keep their strongest-row flag.
+  const RingRuns runs = last_row_runs(cloud);
+  for (Index i = cloud.last_begin; i < n; ++i) {
+    const int ring = cloud.ring[i];
+    for (const int other : {ring - 1, ring + 1}) {
+      if (other < 0 || other >= kLasers) continue;
+      const Index q = last_row_position(cloud, runs, other, cloud.column[i]);
+      if (q == cloud.last_rows.size()) continue;
+      const Index j = cloud.last_rows[q];
+      const Index lower = other < ring ? j : i, upper = other < ring ? i : j;
+      steep[i] |= rises_steeply(cloud, lower, upper);
+    }
+  }
 }
 
 }  // namespace vlpground::detail

@@ -135,9 +135,10 @@ void compute_tangents(const Cloud& cloud, const TangentParams& params, Tangents&
   if (cloud.deduplicated) {
     // A distinct last return: its row as the sensor saw it, twins included.
     const LastRows last{cloud, cloud.last_rows.size()};
-    for (Index p = 0; p < last.size; ++p) {
-      const Index point = last.at(p);
-      if (cloud.layer[point] == 1) chord_at(last, params, p, out.step[point], out);
+    const RingRuns runs = last_row_runs(cloud);
+    for (Index i = cloud.last_begin; i < n; ++i) {
+      const Index p = last_row_position(cloud, runs, cloud.ring[i], cloud.column[i]);
+      chord_at(last, params, p, out.step[i], out);
     }
   }
   normalise(n, params.min_chord_m, out.x.data(), out.y.data(), out.z.data(), out.valid.data());
