@@ -1,10 +1,12 @@
-// Baseline methods (ransac, lpr) on ray-cast synthetic frames, through the method contract.
+// Baseline methods (ransac, lpr) on ray-cast synthetic frames, through the method contract;
+// and the default detector's steady state (no allocation).
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
 
 #include "allocation_counter.hpp"
 #include "method.hpp"
+#include "vlpground/detector/ground_detector.hpp"
 
 using vlpground::Frame;
 using vlpground::GroundLabel;
@@ -249,6 +251,30 @@ TEST_CASE("baselines do not allocate once warmed up", "[evaluation][baselines]")
       CHECK(vlpground::test::allocation_count() == before);
     }
   }
+}
+
+// The default detector (tangent) through its public front end, single and dual return; in the
+// dual frame every other ground cell repeats the strongest echo (twins), the rest differ.
+TEST_CASE("the tangent detector does not allocate once warmed up", "[evaluation][alloc]") {
+  if (vlpground::test::allocation_count() < 0) {
+    WARN("skipped: allocations are not counted under AddressSanitizer");
+    return;
+  }
+  Frame dual = make_frame(true, vlpground::ReturnMode::dual);
+  for (std::size_t i = 0; i < dual.same_echo.size(); ++i) {
+    dual.same_echo[i] = static_cast<std::uint8_t>(dual.layer[1].valid[i] != 0 && i % 2 == 0);
+    if (dual.same_echo[i] == 0) dual.layer[1].z_m[i] -= 0.5f;
+  }
+  const Frame frames[] = {make_frame(true), make_frame(false), dual};
+  vlpground::GroundDetector detector;
+  GroundResult r;
+  for (const Frame& f : frames) detector.detect(f, r);  // warm-up: every buffer grows
+  const long before = vlpground::test::allocation_count();
+  for (const Frame& f : frames) {
+    detector.detect(f, r);
+    CHECK(r.ground_returns > 0);
+  }
+  CHECK(vlpground::test::allocation_count() == before);
 }
 
 TEST_CASE("baselines accept a sensor mounted off the vehicle origin", "[evaluation][baselines]") {
