@@ -132,20 +132,31 @@ void transform_points(const Transform tr, Index n, const Out o) {
 VLPGROUND_VECTOR_CLONES
 Index append_last_row(const Row row, const Row strongest, const std::uint8_t* same_echo, Index k,
                       Index k0, Index& p, const Out o) {
-  for (int col = 0; col < row.columns; ++col) {
-    const bool same_point = (row.x[col] == strongest.x[col]) & (row.y[col] == strongest.y[col]) &
-                            (row.z[col] == strongest.z[col]);
-    const bool dup = (same_echo[col] & strongest.valid[col] & row.valid[col]) != 0 && same_point;
-    if (dup) {
-      o.twin[k0] = 1;
-      o.last_rows[p++] = static_cast<std::uint32_t>(k0);
-    } else {
-      write_point(row, col, k, o);
-      o.last_rows[p] = static_cast<std::uint32_t>(k);
-      p += row.valid[col];
-      k += row.valid[col];
+  constexpr int kChunk = 256;
+  std::uint8_t dup[kChunk];
+  for (int first = 0; first < row.columns; first += kChunk) {
+    const int count = std::min(kChunk, row.columns - first);
+    // Which cells repeat the strongest echo, as one vectorisable pass.
+    for (int c = 0; c < count; ++c) {
+      const int col = first + c;
+      const bool same_point = (row.x[col] == strongest.x[col]) & (row.y[col] == strongest.y[col]) &
+                              (row.z[col] == strongest.z[col]);
+      dup[c] = static_cast<std::uint8_t>(
+          ((same_echo[col] & strongest.valid[col] & row.valid[col]) != 0) & same_point);
     }
-    k0 += strongest.valid[col];
+    for (int c = 0; c < count; ++c) {
+      const int col = first + c;
+      if (dup[c] != 0) {
+        o.twin[k0] = 1;
+        o.last_rows[p++] = static_cast<std::uint32_t>(k0);
+      } else {
+        write_point(row, col, k, o);
+        o.last_rows[p] = static_cast<std::uint32_t>(k);
+        p += row.valid[col];
+        k += row.valid[col];
+      }
+      k0 += strongest.valid[col];
+    }
   }
   return k;
 }
