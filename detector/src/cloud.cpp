@@ -182,12 +182,14 @@ void resize_all(Cloud& c, Index n) {
 }  // namespace
 
 void build_cloud(const Frame& frame, const Extrinsics& extrinsics, bool deduplicate, Cloud& cloud) {
-  cloud.clear();
+  // Sized, not cleared: every slot is written below, so only growth initialises memory.
+  cloud.last_begin = 0;
   const Transform tr = transform_of(extrinsics);
   const int layers = frame.layers();
   cloud.deduplicated = deduplicate && layers == 2;
   const Index strongest = count_valid(frame, 0), last = layers == 2 ? count_valid(frame, 1) : 0;
   resize_all(cloud, strongest + last + 1);
+  std::fill(cloud.twin.begin(), cloud.twin.end(), std::uint8_t{0});
   if (cloud.deduplicated) cloud.last_rows.resize(last + 1);
   const Out out = view(cloud);
   Index k = 0, p = 0, row_start[kLasers] = {};
