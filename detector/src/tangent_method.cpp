@@ -63,37 +63,46 @@ class TangentMethod final : public Method {
     label_down_ = static_cast<float>(c.label_below_m);
     steep_up_ = static_cast<float>(c.steep_label_height_m);
     soft_m_ = kSoftBoundaryBins * bin_;
-    grid_.bins = bins_;
-    grid_.bin_m = bin_;
-    grid_.half_m = half_;
-    grid_.origin_x = origin_x_;
-    grid_.origin_y = origin_y_;
-    grid_.radius_m = radius_;
-    grid_.sub = sub_;
-    grid_.band_m = kCandidateBand_m;
-    score_params_.eps = eps_;
-    score_params_.sin_delta = sin_delta_;
-    score_params_.below = -static_cast<float>(c.below_distance_m);
-    score_params_.penalty = c.below_penalty;
-    agreement_.origin_x = origin_x_;
-    agreement_.origin_y = origin_y_;
-    agreement_.sensor_z = static_cast<float>(c.extrinsics.z_m);
-    agreement_.min_sensor_height_m = c.min_sensor_height_m;
-    agreement_.max_sensor_height_m = c.max_sensor_height_m;
-    agreement_.max_step_m = c.max_step_m;
-    agreement_.soft_m = soft_m_;
-    agreement_.radius_m = radius_;
+    grid_ = {bins_, bin_, half_, origin_x_, origin_y_, radius_, sub_, kCandidateBand_m};
+    score_params_ = {eps_, sin_delta_, -static_cast<float>(c.below_distance_m), c.below_penalty};
+    agreement_ = {origin_x_,
+                  origin_y_,
+                  static_cast<float>(c.extrinsics.z_m),
+                  c.min_sensor_height_m,
+                  c.max_sensor_height_m,
+                  c.max_step_m,
+                  soft_m_,
+                  radius_};
   }
 
   void detect(const Frame& frame, const Cloud& cloud, GroundResult& out) override {
     auto t = Clock::now();
+    ring_facts(frame, cloud);  // Sec. III-A
+    out.timings.tangents_ms = ms_since(t);
+    hypotheses(cloud);
+    out.timings.hypotheses_ms = ms_since(t);
+    scorer_.score(cand_, planes_, score_params_, scores_);  // b_m(c, r) of Algorithm 1
+    out.timings.inliers_ms = ms_since(t);
+    const SearchResult found = search();
+    out.timings.search_ms = ms_since(t);
+    choose_planes(found, cloud, out);
+    label(cloud, out);
+    out.timings.labelling_ms = ms_since(t);
+  }
+
+ private:
+  // Tangents, steep flags and ring elevations.
+  void ring_facts(const Frame& frame, const Cloud& cloud) {
     TangentParams tp;
     if (frame.columns() > 0)  // a rotation spans the frame's columns (about 2 pi)
       tp.column_angle_rad = 2.f * static_cast<float>(M_PI) / static_cast<float>(frame.columns());
     compute_tangents(cloud, tp, tangents_);
     measure_ring_slopes(frame, ring_slopes_);
     mark_steep(cloud, steep_);
-    out.timings.tangents_ms = ms_since(t);
+  }
+
+  // Bins, scoring candidates and M sampled planes.
+  void hypotheses(const Cloud& cloud) {
     binning_.sort(cloud, grid_);
     binning_.select(cloud, grid_, tangents_, steep_, cand_, bin_slot_, low_);
     SamplingParams sp;
@@ -103,9 +112,10 @@ class TangentMethod final : public Method {
     sp.sin_delta = sin_delta_;
     sp.seed = cfg_.seed;
     sample_hypotheses(low_, sp, planes_);
-    out.timings.hypotheses_ms = ms_since(t);
-    scorer_.score(cand_, planes_, score_params_, scores_);
-    out.timings.inliers_ms = ms_since(t);
+  }
+
+  // Algorithm 1 over the slot scores.
+  SearchResult search() {
     SearchInput in;
     in.bins = bins_;
     in.hypotheses = static_cast<int>(planes_.size());
@@ -115,15 +125,9 @@ class TangentMethod final : public Method {
     in.allow_empty_segments = true;
     in.score_bound =
         static_cast<std::int64_t>(cand_.start.back()) * std::max(1, cfg_.below_penalty);
-    SearchResult found;
-    if (in.hypotheses > 0) found = search_partition(in, search_scratch_);
-    out.timings.search_ms = ms_since(t);
-    choose_planes(found, cloud, out);
-    label(cloud, out);
-    out.timings.labelling_ms = ms_since(t);
+    return in.hypotheses > 0 ? search_partition(in, search_scratch_) : SearchResult{};
   }
 
- private:
   // Segment s of the found partition; x/y bounds in the vehicle frame.
   void set_bounds(const SearchResult& f, GroundResult& out) const {
     const float x_lo = origin_x_ - half_, y_lo = origin_y_ - half_;
