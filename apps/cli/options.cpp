@@ -118,6 +118,9 @@ const std::vector<OptionSpec>& detector_option_specs() {
       {"--cut-angle", true, "DEG  azimuth where frames start (default 0)"},
       {"--model", true, "vlp16|hires  decode as this model whatever the product byte says"},
       {"--seed", true, "N  detector random seed (default 1)"},
+      {"--min-sensor-height", true,
+       "M  ground lies at least this far under the sensor (default 0.5; 0 for a sensor on a "
+       "floor or desk)"},
       {"--log-level", true, "L  trace|debug|info|warn|error|off (default warn)"},
       {"--help", false, "show this help"},
   };
@@ -145,6 +148,9 @@ void apply_common_options(const Args& args, PipelineConfig& config) {
   }
   config.detector.seed = static_cast<std::uint64_t>(
       args.integer("--seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
+  config.detector.min_sensor_height_m =
+      args.number("--min-sensor-height", config.detector.min_sensor_height_m, 0.0,
+                  config.detector.max_sensor_height_m - 0.01);
   config.decoder.calibration_file = args.text("--calibration", "");
   if (args.has("--model")) {
     const std::string m = args.text("--model", "");
