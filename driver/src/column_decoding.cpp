@@ -58,8 +58,6 @@ std::array<double, kBlocksPerPacket> azimuth_gaps(const std::array<int, kBlocksP
   return gap;
 }
 
-// Single: block b holds sequences 2b and 2b+1. Dual: pair (b, b+1), b even, holds sequences
-// b and b+1; the even block is the last return, the odd block the strongest.
 // cos and sin of a small angle (|x| <= 0.07 rad) by series: exact to double precision.
 CosSin small_angle(double x) {
   const double x2 = x * x;
@@ -86,6 +84,8 @@ void plan_column(std::size_t c, std::size_t group, int half, bool dual, double b
   plan.sin_step[c] = static_cast<float>(step_cs.sin);
 }
 
+// Single: block b holds sequences 2b and 2b+1. Dual: pair (b, b+1), b even, holds sequences
+// b and b+1; the even block is the last return, the odd block the strongest.
 void plan_columns(const std::uint8_t* p, bool dual, int count, ColumnPlan& plan) {
   std::array<int, kBlocksPerPacket> az{};
   for (std::size_t b = 0; b < az.size(); ++b) az[b] = block_azimuth(p + b * kBlockBytes);

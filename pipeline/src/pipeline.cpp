@@ -172,10 +172,9 @@ struct Pipeline::Impl {
         total_dropped = dropped ? ++counters.frames_dropped : counters.frames_dropped;
       }
       if (dropped) {
-        const std::uint64_t total = total_dropped;
         diagnose(DiagnosticKind::frame_dropped,
-                 "detector behind: dropped the oldest pending frame (" + std::to_string(total) +
-                     " dropped so far)");
+                 "detector behind: dropped the oldest pending frame (" +
+                     std::to_string(total_dropped) + " dropped so far)");
       }
       if (filling == nullptr) return;  // stopped while blocked
     }
