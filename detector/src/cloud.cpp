@@ -8,21 +8,6 @@
 
 namespace vlpground::detail {
 
-void Cloud::clear() {
-  x.clear();
-  y.clear();
-  z.clear();
-  range_xy.clear();
-  cell.clear();
-  layer.clear();
-  ring.clear();
-  column.clear();
-  twin.clear();
-  last_rows.clear();
-  deduplicated = false;
-  last_begin = 0;
-}
-
 namespace {
 
 using Index = std::size_t;
@@ -209,15 +194,13 @@ void build_cloud(const Frame& frame, const Extrinsics& extrinsics, bool deduplic
   cloud.last_rows.resize(p);
 }
 
+RingRuns point_ring_runs(const Cloud& cloud, Index first, Index last) {
+  return ring_runs(first, last, [&](Index p) { return int{cloud.ring[p]}; });
+}
+
 RingRuns last_row_runs(const Cloud& cloud) {
-  RingRuns runs{};
-  const auto& rows = cloud.last_rows;
-  for (int ring = 0; ring <= kLasers; ++ring) {
-    const auto first = std::partition_point(
-        rows.begin(), rows.end(), [&](std::uint32_t p) { return int{cloud.ring[p]} < ring; });
-    runs[static_cast<Index>(ring)] = static_cast<Index>(first - rows.begin());
-  }
-  return runs;
+  return ring_runs(0, cloud.last_rows.size(),
+                   [&](Index p) { return int{cloud.ring[cloud.last_rows[p]]}; });
 }
 
 Index last_row_position(const Cloud& cloud, const RingRuns& runs, int ring, int column) {

@@ -2,9 +2,11 @@
 // lpr). Not installed.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <ranges>
 #include <vector>
 
 #include "vlpground/detector/ground_detector.hpp"
@@ -32,7 +34,6 @@ struct Cloud {
   std::vector<std::uint32_t> last_rows;  // deduplicated clouds only
   [[nodiscard]] std::size_t size() const { return x.size(); }
   [[nodiscard]] bool has_twin(std::size_t i) const { return !twin.empty() && twin[i] != 0; }
-  void clear();
 };
 
 /// Fills `cloud` from every valid cell of every layer of `frame`; with `deduplicate`, dual
@@ -40,8 +41,24 @@ struct Cloud {
 /// grown to the largest frame seen.
 void build_cloud(const Frame& frame, const Extrinsics& extrinsics, bool deduplicate, Cloud& cloud);
 
-/// Runs of Cloud::last_rows by ring: ring r holds positions [begin[r], begin[r + 1]).
+/// Runs of a sequence sorted by ring: ring r holds positions [runs[r], runs[r + 1]).
 using RingRuns = std::array<std::size_t, kLasers + 1>;
+
+/// Ring runs of positions [first, last), sorted by ring; `ring_at(p)` is position p's ring.
+template <class RingAt>
+RingRuns ring_runs(std::size_t first, std::size_t last, RingAt ring_at) {
+  RingRuns runs{};
+  for (int ring = 0; ring <= kLasers; ++ring) {
+    const auto positions = std::views::iota(first, last);
+    runs[static_cast<std::size_t>(ring)] =
+        *std::ranges::partition_point(positions, [&](std::size_t p) { return ring_at(p) < ring; });
+  }
+  return runs;
+}
+
+/// Ring runs of cloud points [first, last) (one layer's points, in cloud order).
+RingRuns point_ring_runs(const Cloud& cloud, std::size_t first, std::size_t last);
+/// Ring runs of Cloud::last_rows.
 RingRuns last_row_runs(const Cloud& cloud);
 
 /// Position in last_rows of the cell (ring, column), or last_rows.size() when it has no

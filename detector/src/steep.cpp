@@ -9,17 +9,6 @@ namespace {
 
 using Index = std::size_t;
 
-// [begin, end) of each ring's run in a sequence of points sorted by (ring, column):
-// begin[ring] for ring in [0, kLasers], with begin[kLasers] = the end of the sequence.
-void ring_bounds(const Cloud& cloud, Index first, Index last, Index (&begin)[kLasers + 1]) {
-  for (int ring = 0; ring <= kLasers; ++ring) {
-    const auto it = std::partition_point(cloud.ring.begin() + static_cast<std::ptrdiff_t>(first),
-                                         cloud.ring.begin() + static_cast<std::ptrdiff_t>(last),
-                                         [&](std::uint16_t r) { return int{r} < ring; });
-    begin[ring] = static_cast<Index>(it - cloud.ring.begin());
-  }
-}
-
 // 1 when the surface from point a (lower ring) to b (the ring above) rises over 45 degrees.
 std::uint8_t rises_steeply(const Cloud& cloud, Index a, Index b) {
   const float dz = cloud.z[b] - cloud.z[a], dr = cloud.range_xy[b] - cloud.range_xy[a];
@@ -28,9 +17,8 @@ std::uint8_t rises_steeply(const Cloud& cloud, Index a, Index b) {
 
 // Pairs the returns of the same column in adjacent rings (runs sorted by column) and marks
 // both when the surface between them rises more than 45 degrees.
-void mark_rows(const Cloud& cloud, const Index (&begin)[kLasers + 1],
-               std::vector<std::uint8_t>& steep) {
-  for (int ring = 0; ring + 1 < kLasers; ++ring) {
+void mark_rows(const Cloud& cloud, const RingRuns& begin, std::vector<std::uint8_t>& steep) {
+  for (Index ring = 0; ring + 1 < static_cast<Index>(kLasers); ++ring) {
     Index a = begin[ring], b = begin[ring + 1];
     const Index a_end = begin[ring + 1], b_end = begin[ring + 2];
     while (a < a_end && b < b_end) {
@@ -62,12 +50,9 @@ void mark_steep(const Cloud& cloud, std::vector<std::uint8_t>& steep) {
                                                    [](std::uint8_t l) { return l != 0; }) -
                                       cloud.layer.begin());
   }
-  Index begin[kLasers + 1];
-  ring_bounds(cloud, 0, layer_end[0], begin);
-  mark_rows(cloud, begin, steep);
+  mark_rows(cloud, point_ring_runs(cloud, 0, layer_end[0]), steep);
   if (!cloud.deduplicated) {
-    ring_bounds(cloud, layer_end[0], n, begin);
-    mark_rows(cloud, begin, steep);
+    mark_rows(cloud, point_ring_runs(cloud, layer_end[0], n), steep);
     return;
   }
   // A distinct last return meets the last layer as the sensor saw it (twins included) in
