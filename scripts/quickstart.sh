@@ -7,6 +7,9 @@ cd "$(dirname "$0")/.."
 
 capture=${1:-pcaps/urban_demo.pcap}
 ./scripts/setup.sh
+if command -v ccache > /dev/null; then
+  export CMAKE_CXX_COMPILER_LAUNCHER=ccache CMAKE_C_COMPILER_LAUNCHER=ccache CCACHE_BASEDIR="$PWD"
+fi
 jobs=$(nproc 2>/dev/null || echo 2)
 cmake -S . -B build -DVLPGROUND_BUILD_APPS=ON > build.configure.log 2>&1 ||
   { cat build.configure.log; exit 1; }

@@ -14,6 +14,10 @@ if [ "${1:-}" = "--sanitize" ]; then
 fi
 
 ./scripts/setup.sh
+# ccache (installed by setup.sh) makes rebuilds of unchanged files free, also across clones.
+if command -v ccache > /dev/null; then
+  export CMAKE_CXX_COMPILER_LAUNCHER=ccache CMAKE_C_COMPILER_LAUNCHER=ccache CCACHE_BASEDIR="$PWD"
+fi
 jobs=$(nproc 2>/dev/null || echo 2)
 echo "test: configuring ${build_dir}/"
 cmake -S . -B "$build_dir" "${cmake_args[@]}" > "$build_dir.configure.log" 2>&1 ||
