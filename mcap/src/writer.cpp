@@ -239,7 +239,9 @@ struct Writer::Impl {
     {
       RecordBuffer r(records);
       const auto at = r.begin_record(Opcode::data_end);
-      r.u32(0);  // data_section_crc: 0 = not computed (allowed by the spec)
+      // data_section_crc: every byte from the file's start to here, as the reference writer
+      // (@mcap/core) computes it.
+      r.u32(file.crc());
       r.end_record(at);
       write_records();
     }

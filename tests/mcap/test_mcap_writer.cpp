@@ -113,7 +113,9 @@ TEST_CASE("mcap writer: file layout follows the spec", "[mcap]") {
   CHECK(footer.done());
   std::size_t first_summary = 0;
   while (records[first_summary].offset != summary_start) ++first_summary;
-  CHECK(records[first_summary - 1].opcode == 0x0F);  // DataEnd right before the summary
+  const Record& data_end = records[first_summary - 1];
+  REQUIRE(data_end.opcode == 0x0F);  // DataEnd right before the summary
+  CHECK(Fields(data_end.body).u32() == crc32(std::span(file).first(data_end.offset)));
   CHECK(records[first_summary].opcode == 0x03);
   std::size_t first_offset = 0;
   while (records[first_offset].offset != summary_offset_start) ++first_offset;
