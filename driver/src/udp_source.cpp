@@ -1,6 +1,7 @@
 // Live UDP reception: Boost.Asio opens, configures and binds the sockets; packets are read
 // with recvmsg() on the native handles (kernel timestamps and drop counters come as control
 // messages) and waited for with poll(), together with an eventfd that request_stop() signals.
+#include <arpa/inet.h>
 #include <poll.h>
 #include <sys/eventfd.h>
 #include <sys/socket.h>
@@ -205,12 +206,14 @@ class UdpSource final : public PacketSource {
     }
     driver_detail::UdpDatagram datagram;
     datagram.source = source_address(from);
+    datagram.source_port = source_port(from);
     datagram.destination_port = endpoint.port;
     datagram.payload = {buffer_.data(), static_cast<std::size_t>(received)};
     const auto kind = filter_.accept(datagram, counters_);
     if (!kind) return Receive::skipped;
     out.bytes = datagram.payload;
     out.kind = *kind;
+    out.source = driver_detail::to_source_address(datagram);
     out.receive_ns = kernel_ns != 0 ? kernel_ns : realtime_now_ns();
     out.steady_receive_ns = steady_now_ns();
     return Receive::packet;
@@ -249,6 +252,20 @@ class UdpSource final : public PacketSource {
       std::memcpy(address.bytes.data(), &v6.sin6_addr, 16);
     }
     return address;
+  }
+
+  static std::uint16_t source_port(const sockaddr_storage& from) {
+    in_port_t port = 0;
+    if (from.ss_family == AF_INET) {
+      sockaddr_in v4{};
+      std::memcpy(&v4, &from, sizeof v4);
+      port = v4.sin_port;
+    } else if (from.ss_family == AF_INET6) {
+      sockaddr_in6 v6{};
+      std::memcpy(&v6, &from, sizeof v6);
+      port = v6.sin6_port;
+    }
+    return ntohs(port);
   }
 
   static void clear_socket_error(Endpoint& endpoint) {
