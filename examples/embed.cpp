@@ -11,8 +11,8 @@ int main(int argc, char** argv) {
   vlpground::PcapSourceConfig capture;
   capture.path = argv[1];
   vlpground::PipelineConfig config;
-  config.pcap = capture;
-  config.detector.method = "tangent";
+  config.source = capture;
+  config.detector.method = vlpground::GroundMethod::tangent;
   vlpground::Pipeline pipeline(config);
   pipeline.on_frame([](const vlpground::LabelledFrame& f) {
     std::printf("frame %llu: %d columns, %llu ground returns\n",

@@ -140,12 +140,10 @@ const std::vector<OptionSpec>& output_option_specs() {
 }
 
 void apply_common_options(const Args& args, PipelineConfig& config) {
-  config.detector.method = args.text("--method", "tangent");
-  if (config.detector.method != "tangent" && config.detector.method != "ransac" &&
-      config.detector.method != "lpr") {
-    throw UsageError("--method must be tangent, ransac or lpr, got '" + config.detector.method +
-                     "'");
-  }
+  const std::string method = args.text("--method", "tangent");
+  const auto parsed = parse_ground_method(method);
+  if (!parsed) throw UsageError("--method must be tangent, ransac or lpr, got '" + method + "'");
+  config.detector.method = *parsed;
   config.detector.seed = static_cast<std::uint64_t>(
       args.integer("--seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
   config.detector.min_sensor_height_m =

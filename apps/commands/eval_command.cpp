@@ -60,7 +60,7 @@ int run_eval(int argc, char** argv) {
     if (args.has("--json")) {
       nlohmann::json j = {
           {"capture", result.capture},
-          {"method", result.method},
+          {"method", to_string(result.method)},
           {"radius_m", radius},
           {"frames", result.score.frames},
           {"precision", c.precision()},
@@ -76,7 +76,7 @@ int run_eval(int argc, char** argv) {
       std::printf("%s\n", j.dump(2).c_str());
     } else {
       std::printf("%-10s %s\n%-10s %s\n%-10s %llu\n%-10s %.1f m\n", "capture",
-                  result.capture.c_str(), "method", result.method.c_str(), "frames",
+                  result.capture.c_str(), "method", to_string(result.method).data(), "frames",
                   static_cast<unsigned long long>(result.score.frames), "radius", radius);
       std::printf("%-10s %.4f\n%-10s %.4f\n%-10s %.4f\n", "precision", c.precision(), "recall",
                   c.recall(), "F1", c.f1());

@@ -40,7 +40,7 @@ CaptureFacts read_frames(const PcapSourceConfig& pcap) {
       facts.gprmc_time = t;
     }
   });
-  reader.on_warning([&](const std::string& w) { facts.warnings.push_back(w); });
+  reader.on_warning([&](std::error_code, const std::string& w) { facts.warnings.push_back(w); });
   Frame frame;
   while (reader.next(frame) == ReadStatus::frame) {
     if (facts.frames == 0) facts.first_ns = frame.meta.first_time_ns;

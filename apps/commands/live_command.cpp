@@ -45,7 +45,7 @@ int run_live(int argc, char** argv) {
     }
     RunRequest request;
     request.command = "live";
-    UdpSourceConfig& udp = request.config.udp;
+    auto& udp = request.config.source.emplace<UdpSourceConfig>();
     udp.data_port = static_cast<std::uint16_t>(args.integer("--port", 2368, 1, 65535));
     udp.position_port = static_cast<std::uint16_t>(args.integer("--position-port", 8308, 0, 65535));
     udp.bind_address = args.text("--bind", "0.0.0.0");

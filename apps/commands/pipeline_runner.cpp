@@ -90,8 +90,7 @@ Writers open_writers(const OutputOptions& o, double view_radius_m) {
 }
 
 std::string describe_input(const RunRequest& r) {
-  if (r.config.pcap) return "pcap " + r.config.pcap->path;
-  return "udp " + r.config.udp.bind_address + ":" + std::to_string(r.config.udp.data_port);
+  return describe(r.config.source);
 }
 
 }  // namespace
@@ -158,7 +157,7 @@ int run_pipeline(RunRequest request) {
     std::fprintf(stderr, "%s%s\n", prefix.c_str(), e.what());
     return 1;
   }
-  if (!request.config.pcap) {
+  if (!std::holds_alternative<PcapSourceConfig>(request.config.source)) {
     std::fprintf(stderr, "%slistening on %s\n", prefix.c_str(), describe_input(request).c_str());
   }
   signals.watch(*pipeline, request.duration_s);
@@ -176,7 +175,8 @@ int run_pipeline(RunRequest request) {
   }
 
   const PipelineStats stats = pipeline->stats();
-  SummaryContext context{request.command, describe_input(request), request.config.detector.method,
+  SummaryContext context{request.command, describe_input(request),
+                         std::string(to_string(request.config.detector.method)),
                          gps, warnings.load()};
   if (request.outputs.json) {
     std::printf("%s\n", summary_json(stats, context).c_str());

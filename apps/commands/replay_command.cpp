@@ -48,7 +48,7 @@ int run_replay(int argc, char** argv) {
     pcap.position_port =
         static_cast<std::uint16_t>(args.integer("--position-port", 8308, 1, 65535));
     pcap.sensor_address = args.text("--sensor-ip", "");
-    request.config.pcap = pcap;
+    request.config.source = pcap;
     apply_common_options(args, request.config);
     request.outputs = output_options(args);
     apply_log_level(request.outputs.log_level);

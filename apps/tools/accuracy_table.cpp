@@ -78,7 +78,7 @@ void print_header() {
 void print_row(const CaptureScore& s) {
   const auto& c = s.score.all;
   std::printf("| %s | %s | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %llu | %.1f |\n",
-              s.capture.c_str(), s.method.c_str(), c.precision(), c.recall(), c.f1(),
+              s.capture.c_str(), to_string(s.method).data(), c.precision(), c.recall(), c.f1(),
               s.score.near_band.f1(), s.score.far_band.f1(), s.score.high_obstacle_as_ground_rate(),
               static_cast<unsigned long long>(s.score.high_obstacles),
               s.score.frames == 0 ? 0.0 : s.detect_ms_total / static_cast<double>(s.score.frames));
@@ -130,7 +130,8 @@ int main(int argc, char** argv) {
       labels.replace_extension(".labels");
       json.replace_extension(".json");
       std::vector<vlpground::DetectorConfig> configs;
-      for (const char* method : {"tangent", "ransac", "lpr"}) {
+      for (const auto method : {vlpground::GroundMethod::tangent, vlpground::GroundMethod::ransac,
+                                vlpground::GroundMethod::lpr}) {
         configs.emplace_back().method = method;
         if (fs::exists(json))
           configs.back().extrinsics = vlpground::eval::load_sim_extrinsics(json);

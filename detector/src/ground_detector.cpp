@@ -22,8 +22,9 @@ bool finite(double v) { return std::isfinite(v); }
 }  // namespace
 
 void DetectorConfig::validate() const {
-  require(method == "tangent" || method == "ransac" || method == "lpr", "method",
-          "must be \"tangent\", \"ransac\" or \"lpr\", got \"" + method + "\"");
+  require(to_string(method) != "?", "method",
+          "must be tangent, ransac or lpr, got the value " +
+              std::to_string(static_cast<int>(method)));
   const Extrinsics& e = extrinsics;
   require(finite(e.x_m) && finite(e.y_m) && finite(e.z_m) && std::abs(e.x_m) <= 100 &&
               std::abs(e.y_m) <= 100 && std::abs(e.z_m) <= 100,
@@ -82,8 +83,14 @@ struct GroundDetector::Impl {
 namespace {
 
 std::unique_ptr<detail::Method> make_method(const DetectorConfig& config) {
-  if (config.method == "ransac") return detail::make_ransac_method(config);
-  if (config.method == "lpr") return detail::make_lpr_method(config);
+  switch (config.method) {
+    case GroundMethod::ransac:
+      return detail::make_ransac_method(config);
+    case GroundMethod::lpr:
+      return detail::make_lpr_method(config);
+    case GroundMethod::tangent:
+      break;
+  }
   return detail::make_tangent_method(config);
 }
 
@@ -125,7 +132,7 @@ void GroundDetector::detect(const Frame& frame, GroundResult& out) {
   out.total_inliers = 0;
   reset_cells(frame, out);
   // Only the tangent method knows twins (see detail::Cloud); the baselines see every return.
-  detail::build_cloud(frame, impl_->config.extrinsics, impl_->config.method == "tangent",
+  detail::build_cloud(frame, impl_->config.extrinsics, impl_->config.method == GroundMethod::tangent,
                       impl_->cloud);
   out.timings.cloud_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   impl_->method->detect(frame, impl_->cloud, out);

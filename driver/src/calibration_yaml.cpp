@@ -115,7 +115,9 @@ class CalibrationReader {
 }  // namespace
 
 SensorModel SensorModel::from_calibration_file(const std::string& path, Model model) {
-  return CalibrationReader(path).read(model);
+  SensorModel m = CalibrationReader(path).read(model);
+  m.source = path;
+  return m;
 }
 
 }  // namespace vlpground

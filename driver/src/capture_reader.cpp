@@ -46,26 +46,27 @@ struct CaptureReader::Impl {
   PositionPacket position;
   PacketView view;
   std::function<void(const PositionPacket&)> position_callback;
-  std::function<void(const std::string&)> warning_callback;
+  std::function<void(std::error_code, const std::string&)> warning_callback;
   std::vector<std::string> warned;  // distinct warnings already forwarded
   std::atomic<bool> stop{false};
   bool ended = false;
   std::uint64_t position_packets_parsed = 0;
   bool warned_timing = false;
 
-  void warn_once(const std::string& text) {
+  void warn_once(std::error_code code, const std::string& text) {
     if (text.empty() || std::find(warned.begin(), warned.end(), text) != warned.end()) return;
     warned.push_back(text);
-    if (warning_callback) warning_callback(text);
+    if (warning_callback) warning_callback(code, text);
   }
 
   void check_warnings() {
     const std::string& w = decoder.last_warning();
-    if (!w.empty() && (warned.empty() || warned.back() != w)) warn_once(w);
+    if (!w.empty() && (warned.empty() || warned.back() != w)) warn_once(decoder.last_warning_code(), w);
     if (!warned_timing && assembler.counters().off_grid_packets >= 8 &&
         assembler.counters().off_grid_packets > assembler.counters().packets_used) {
       warned_timing = true;
       warn_once(
+          ErrorCode::not_vlp16_timing,
           "data packets arrive closer together than a VLP-16's packet period (1327.104 us, "
           "663.552 us dual): this does not look like a VLP-16 stream (HDL-32E?); packets skipped");
     }
@@ -74,6 +75,7 @@ struct CaptureReader::Impl {
   void handle_position() {
     if (!parse_position_packet(view.bytes, view.receive_ns, position)) return;
     ++position_packets_parsed;
+    decoder.note_gps_status(position);
     if (decoder_config.use_gps_hour && position.pps == PpsStatus::locked && position.gprmc.parsed &&
         position.gprmc.valid) {
       decoder.set_gps_hour_reference(top_of_hour_ns(position));
@@ -100,6 +102,12 @@ struct CaptureReader::Impl {
   }
 
   ReadStatus next(Frame& out, int timeout_ms) {
+    const ReadStatus status = next_frame(out, timeout_ms);
+    if (status == ReadStatus::frame) out.meta.calibration = decoder.calibration(out.meta.model);
+    return status;
+  }
+
+  ReadStatus next_frame(Frame& out, int timeout_ms) {
     if (assembler.pop(out)) return ReadStatus::frame;
     if (ended) return assembler.flush(out) ? ReadStatus::frame : ReadStatus::end_of_input;
     while (!stop.load(std::memory_order_relaxed)) {
@@ -141,7 +149,8 @@ void CaptureReader::on_position(std::function<void(const PositionPacket&)> callb
   impl_->position_callback = std::move(callback);
 }
 
-void CaptureReader::on_warning(std::function<void(const std::string&)> callback) {
+void CaptureReader::on_warning(
+    std::function<void(std::error_code, const std::string&)> callback) {
   impl_->warning_callback = std::move(callback);
 }
 

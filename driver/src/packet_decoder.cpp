@@ -81,21 +81,21 @@ void DecoderConfig::validate() const {
 
 PacketDecoder::PacketDecoder(const DecoderConfig& config)
     : config_(config),
-      vlp16_(SensorModel::builtin(Model::vlp16)),
-      hires_(SensorModel::builtin(Model::hires)),
+      vlp16_(std::make_shared<const SensorModel>(SensorModel::builtin(Model::vlp16))),
+      hires_(std::make_shared<const SensorModel>(SensorModel::builtin(Model::hires))),
       constants_(std::make_unique<Constants>()) {
   config_.validate();
   if (!config_.calibration_file.empty()) {
     // A calibration describes the actual sensor, whatever the packets call it.
-    const SensorModel calibrated = SensorModel::from_calibration_file(
-        config_.calibration_file, config_.force_model.value_or(Model::vlp16));
+    auto calibrated = std::make_shared<const SensorModel>(SensorModel::from_calibration_file(
+        config_.calibration_file, config_.force_model.value_or(Model::vlp16)));
     vlp16_ = calibrated;
-    hires_ = calibrated;
+    hires_ = std::move(calibrated);
   }
   constants_->by_model[static_cast<std::size_t>(Model::vlp16)] =
-      driver_detail::DecodeConstants::from(vlp16_);
+      driver_detail::DecodeConstants::from(*vlp16_);
   constants_->by_model[static_cast<std::size_t>(Model::hires)] =
-      driver_detail::DecodeConstants::from(hires_);
+      driver_detail::DecodeConstants::from(*hires_);
   (void)driver_detail::TrigTable::instance();  // build the table now, not on the first packet
 }
 
@@ -103,7 +103,9 @@ PacketDecoder::~PacketDecoder() = default;
 PacketDecoder::PacketDecoder(PacketDecoder&&) noexcept = default;
 PacketDecoder& PacketDecoder::operator=(PacketDecoder&&) noexcept = default;
 
-const SensorModel& PacketDecoder::sensor_model(Model m) const {
+const SensorModel& PacketDecoder::sensor_model(Model m) const { return *calibration(m); }
+
+const std::shared_ptr<const SensorModel>& PacketDecoder::calibration(Model m) const {
   return m == Model::hires ? hires_ : vlp16_;
 }
 
@@ -129,10 +131,16 @@ bool PacketDecoder::set_gps_time_reference(const PositionPacket& position) {
   return true;
 }
 
-void PacketDecoder::warn_once(bool& raised, std::string message) {
+void PacketDecoder::note_gps_status(const PositionPacket& position) {
+  gps_fix_ = position.gprmc.parsed && position.gprmc.valid;
+  pps_locked_ = position.pps == PpsStatus::locked;
+}
+
+void PacketDecoder::warn_once(bool& raised, ErrorCode code, std::string message) {
   if (raised) return;
   raised = true;
   last_warning_ = std::move(message);
+  last_warning_code_ = code;
   ++warning_count_;
 }
 
@@ -172,7 +180,7 @@ Model PacketDecoder::choose_model(std::uint8_t product_byte) {
                     product_byte,
                     family_ == Family::vlp16 ? " but the packet timing is a VLP-16's" : "",
                     to_string(config_.force_model.value_or(Model::vlp16)).data());
-      warn_once(warned_product_, text);
+      warn_once(warned_product_, ErrorCode::product_mismatch, text);
     }
   }
   if (config_.force_model) return *config_.force_model;
@@ -229,7 +237,7 @@ DecodeStatus PacketDecoder::decode(std::span<const std::uint8_t> bytes, std::int
                     "not a VLP-16: packets arrive about 553 us apart (an HDL-32E's spacing; "
                     "product byte 0x%02X); packets are not decoded",
                     out.product_byte);
-      warn_once(warned_not_vlp16_, text);
+      warn_once(warned_not_vlp16_, ErrorCode::wrong_sensor, text);
     }
     return DecodeStatus::not_vlp16;
   }
@@ -243,6 +251,9 @@ DecodeStatus PacketDecoder::decode(std::span<const std::uint8_t> bytes, std::int
   out.model = choose_model(out.product_byte);
   out.stamp_us_past_hour = stamp_us;
   out.time_ns = resolve_time_ns(stamp_us, receive_ns);
+  out.time_source = gps_reference_ && pps_locked_ ? TimeSource::gps_pps
+                    : gps_fix_                    ? TimeSource::gps_no_pps
+                                                  : TimeSource::host_clock;
   out.time_rebase_ns = 0;
   if (reference_changed_ && have_resolved_) {
     // Continuity with the previous packet predicts the hour; a new reference that disagrees

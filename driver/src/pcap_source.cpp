@@ -16,6 +16,7 @@
 #include "frame_parser.hpp"
 #include "packet_filter.hpp"
 #include "vlpground/driver/packet_source.hpp"
+#include "vlpground/error.hpp"
 
 namespace vlpground {
 
@@ -49,13 +50,13 @@ PcapHandle open_capture(const std::string& path) {
   pcap_t* handle =
       pcap_open_offline_with_tstamp_precision(path.c_str(), PCAP_TSTAMP_PRECISION_NANO, errbuf);
   if (handle == nullptr) {
-    throw std::runtime_error("cannot open capture '" + path + "': " + errbuf);
+    throw Error(ErrorCode::cannot_open_file, "cannot open capture '" + path + "': " + errbuf);
   }
   PcapHandle owned(handle);
   const int link_type = pcap_datalink(handle);
   if (!driver_detail::is_supported_link_type(link_type)) {
     const char* name = pcap_datalink_val_to_name(link_type);
-    throw std::runtime_error("capture '" + path + "' has unsupported link type " +
+    throw Error(ErrorCode::unsupported_link_type, "capture '" + path + "' has unsupported link type " +
                              std::to_string(link_type) + " (" + (name ? name : "unknown") + ")");
   }
   return owned;

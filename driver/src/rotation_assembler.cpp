@@ -126,6 +126,7 @@ bool RotationAssembler::push(const DecodedPacket& packet, Frame& out,
   steady_ns_ = steady;
   mode_ = packet.mode;
   model_ = packet.model;
+  time_source_ = packet.time_source;
   packet_in_frame_ = false;
 
   // Rotation rate over the packet (the decoder's per-laser azimuths already interpolate).
@@ -328,6 +329,7 @@ void RotationAssembler::finish_frame(bool complete, FrameEnd end) {
   meta.end = end;
   meta.sequence = next_sequence_++;
   meta.completed_receive_ns = steady_ns_;
+  meta.time_source = time_source_;
   ++counters_.frames;
   if (!complete) ++counters_.incomplete_frames;
 

@@ -1,5 +1,7 @@
 #include "udp_socket.hpp"
 
+#include "vlpground/error.hpp"
+
 #include <arpa/inet.h>
 #include <sys/eventfd.h>
 #include <sys/socket.h>
@@ -44,15 +46,15 @@ int set_receive_buffer(int fd, int bytes) {
 }
 
 [[noreturn]] void throw_bind_error(const boost::system::error_code& ec, const std::string& where) {
-  if (ec.value() == EADDRINUSE) throw std::runtime_error(where + " is already in use");
+  if (ec.value() == EADDRINUSE) throw Error(ErrorCode::port_in_use, where + " is already in use");
   if (ec.value() == EACCES) {
-    throw std::runtime_error("permission denied for " + where + " (ports below 1024 need root)");
+    throw Error(ErrorCode::permission_denied, "permission denied for " + where + " (ports below 1024 need root)");
   }
   if (ec.value() == EADDRNOTAVAIL) {
-    throw std::runtime_error("cannot listen on " + where +
+    throw Error(ErrorCode::address_not_available, "cannot listen on " + where +
                              ": the address is not assigned to this host");
   }
-  throw std::runtime_error("cannot listen on " + where + ": " + ec.message());
+  throw Error(ErrorCode::socket_error, "cannot listen on " + where + ": " + ec.message());
 }
 
 void join_group(udp::socket& socket, const asio::ip::address& group,
@@ -66,7 +68,7 @@ void join_group(udp::socket& socket, const asio::ip::address& group,
     socket.set_option(asio::ip::multicast::join_group(group.to_v6()), ec);
   }
   if (ec) {
-    throw std::runtime_error("cannot join multicast group " + group.to_string() + " on " +
+    throw Error(ErrorCode::socket_error, "cannot join multicast group " + group.to_string() + " on " +
                              interface_address.to_string() + ": " + ec.message());
   }
 }
@@ -126,7 +128,7 @@ void validate_socket_options(const UdpSocketOptions& options, const std::string&
 }
 
 SocketWaiter::SocketWaiter() : stop_fd_(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC)) {
-  if (stop_fd_ < 0) throw std::runtime_error("udp: eventfd failed");
+  if (stop_fd_ < 0) throw Error(ErrorCode::socket_error, "udp: eventfd failed");
   fds_.push_back({stop_fd_, POLLIN, 0});
 }
 
@@ -165,7 +167,7 @@ UdpSocket::UdpSocket(const UdpSocketOptions& options, std::uint16_t port)
       "port " + std::to_string(port) + " on " + listen_address.to_string();
   udp::socket& socket = impl_->socket;
   if (socket.open(where.protocol(), ec)) {
-    throw std::runtime_error("cannot open a UDP socket for " + where_text + ": " + ec.message());
+    throw Error(ErrorCode::socket_error, "cannot open a UDP socket for " + where_text + ": " + ec.message());
   }
   const int fd = socket.native_handle();
   if (options.reuse_address) {
@@ -178,7 +180,7 @@ UdpSocket::UdpSocket(const UdpSocketOptions& options, std::uint16_t port)
   if (socket.bind(where, ec)) throw_bind_error(ec, where_text);
   if (!group.is_unspecified()) join_group(socket, group, bind_address);
   if (socket.non_blocking(true, ec)) {
-    throw std::runtime_error("cannot make the socket for " + where_text + " non-blocking");
+    throw Error(ErrorCode::socket_error, "cannot make the socket for " + where_text + " non-blocking");
   }
 }
 

@@ -57,11 +57,7 @@ void PipelineConfig::validate() const {
     throw std::invalid_argument("PipelineConfig.read_timeout_ms must be in [1, 60000], got " +
                                 std::to_string(read_timeout_ms));
   }
-  if (pcap) {
-    pcap->validate();
-  } else {
-    udp.validate();
-  }
+  std::visit([](const auto& s) { s.validate(); }, source);
   decoder.validate();
   assembler.validate();
   detector.validate();
@@ -79,6 +75,7 @@ struct Pipeline::Impl {
 
   PipelineConfig config;
   std::unique_ptr<PacketSource> injected_source;
+  PacketQueueSource* push_source = nullptr;  // owned by the reader once started
   FrameCallback frame_cb;
   FrameLeaseCallback lease_cb;
   TelemetryCallback telemetry_cb;
@@ -105,6 +102,7 @@ struct Pipeline::Impl {
   std::int64_t start_ns = 0;
 
   std::mutex diagnostics_mutex;
+  bool reported_queue_full = false, reported_kernel_drops = false;  // reader thread
 
   PipelineStats snapshot() const {
     std::lock_guard lock(stats_mutex);
@@ -115,9 +113,9 @@ struct Pipeline::Impl {
     return s;
   }
 
-  void diagnose(DiagnosticKind kind, std::string message) {
+  void diagnose(DiagnosticKind kind, std::error_code code, std::string message) {
     if (!diagnostics_cb) return;
-    Diagnostic d{kind, std::move(message), snapshot()};
+    Diagnostic d{kind, code, std::move(message), snapshot()};
     std::lock_guard lock(diagnostics_mutex);
     try {
       diagnostics_cb(d);
@@ -135,9 +133,23 @@ struct Pipeline::Impl {
   void update_capture_counters() {
     const CaptureCounters c = reader->counters();
     const double progress = reader->source().progress();
-    std::lock_guard lock(stats_mutex);
-    counters.capture = c;
-    counters.progress = progress;
+    {
+      std::lock_guard lock(stats_mutex);
+      counters.capture = c;
+      counters.progress = progress;
+    }
+    // Packet losses before the decoder: reported once each, then only counted.
+    report_first(reported_queue_full, c.source.queue_full, ErrorCode::queue_full,
+                 "the push queue is full: packets refused (counted in capture.source.queue_full)");
+    report_first(reported_kernel_drops, c.source.kernel_drops, ErrorCode::kernel_drops,
+                 "the socket receive buffer overflowed: packets lost (counted in "
+                 "capture.source.kernel_drops; raise the receive buffer)");
+  }
+
+  void report_first(bool& reported, std::uint64_t count, ErrorCode code, const char* message) {
+    if (reported || count == 0) return;
+    reported = true;
+    diagnose(DiagnosticKind::warning, code, message);
   }
 
   bool drop_oldest() const {
@@ -156,9 +168,13 @@ struct Pipeline::Impl {
     try {
       read_frames();
     } catch (const std::exception& e) {
-      diagnose(DiagnosticKind::source_error, std::string("reader failed: ") + e.what());
+      const auto* error = dynamic_cast<const Error*>(&e);
+      diagnose(DiagnosticKind::source_error,
+               error != nullptr ? error->code() : make_error_code(ErrorCode::source_failed),
+               std::string("reader failed: ") + e.what());
     } catch (...) {
-      diagnose(DiagnosticKind::source_error, "reader failed: unknown exception");
+      diagnose(DiagnosticKind::source_error, ErrorCode::source_failed,
+               "reader failed: unknown exception");
     }
     update_capture_counters();
     pool->close_detection();
@@ -186,7 +202,7 @@ struct Pipeline::Impl {
         total_dropped = counters.frames_dropped;
       }
       if (dropped > 0) {
-        diagnose(DiagnosticKind::frame_dropped,
+        diagnose(DiagnosticKind::frame_dropped, ErrorCode::frame_dropped,
                  "detector or program behind: dropped the oldest pending frame (" +
                      std::to_string(total_dropped) + " dropped so far)");
       }
@@ -212,7 +228,7 @@ struct Pipeline::Impl {
       std::lock_guard lock(stats_mutex);
       counters.finished = true;
     }
-    diagnose(DiagnosticKind::finished, stop_requested ? "stopped" : "end of input");
+    diagnose(DiagnosticKind::finished, {}, stop_requested ? "stopped" : "end of input");
     mark_done(detector_done);
   }
 
@@ -265,7 +281,7 @@ struct Pipeline::Impl {
       std::lock_guard lock(stats_mutex);
       ++counters.callback_exceptions;
     }
-    diagnose(DiagnosticKind::callback_exception, std::move(message));
+    diagnose(DiagnosticKind::callback_exception, ErrorCode::callback_exception, std::move(message));
   }
 
   void mark_done(bool& flag) {
@@ -279,20 +295,27 @@ struct Pipeline::Impl {
   void open_reader() {
     std::unique_ptr<PacketSource> source = std::move(injected_source);
     if (!source) {
-      source = config.pcap ? open_pcap_source(*config.pcap) : open_udp_source(config.udp);
+      if (const auto* pcap = std::get_if<PcapSourceConfig>(&config.source)) {
+        source = open_pcap_source(*pcap);
+      } else {
+        source = open_udp_source(std::get<UdpSourceConfig>(config.source));
+      }
     }
     live = source->is_live();
     reader = std::make_unique<CaptureReader>(std::move(source), config.decoder, config.assembler);
-    reader->on_warning([this](const std::string& w) { diagnose(DiagnosticKind::warning, w); });
+    reader->on_warning([this](std::error_code code, const std::string& w) {
+      diagnose(DiagnosticKind::warning, code, w);
+    });
     if (telemetry_cb) {
       reader->on_position([this](const PositionPacket& p) {
         try {
           telemetry_cb(p);
         } catch (const std::exception& e) {
-          diagnose(DiagnosticKind::callback_exception,
+          diagnose(DiagnosticKind::callback_exception, ErrorCode::callback_exception,
                    std::string("telemetry callback threw: ") + e.what());
         } catch (...) {
-          diagnose(DiagnosticKind::callback_exception, "telemetry callback threw");
+          diagnose(DiagnosticKind::callback_exception, ErrorCode::callback_exception,
+                   "telemetry callback threw");
         }
       });
     }
@@ -312,15 +335,17 @@ struct Pipeline::Impl {
 Pipeline::Pipeline(PipelineConfig config) : Pipeline(std::move(config), nullptr) {}
 
 Pipeline::Pipeline(PipelineConfig config, std::unique_ptr<PacketSource> source) {
-  if (!source)
-    config.validate();
-  else {
-    config.decoder.validate();
-    config.assembler.validate();
-    if (config.queue_frames < 1) throw std::invalid_argument("queue_frames must be >= 1");
+  if (source) config.source = PushSourceConfig{};  // unused; always valid
+  config.validate();
+  PacketQueueSource* push_source = nullptr;
+  if (const auto* push = std::get_if<PushSourceConfig>(&config.source); push && !source) {
+    auto queue = std::make_unique<PacketQueueSource>(*push);
+    push_source = queue.get();
+    source = std::move(queue);
   }
   impl_ = std::make_unique<Impl>(std::move(config));
   impl_->injected_source = std::move(source);
+  impl_->push_source = push_source;
 }
 
 Pipeline::~Pipeline() {
@@ -387,5 +412,20 @@ FrameLease Pipeline::next(std::chrono::milliseconds timeout) {
 bool Pipeline::at_end() const { return impl_->started && impl_->pool->ready_drained(); }
 
 PipelineStats Pipeline::stats() const { return impl_->snapshot(); }
+
+PacketQueueSource& Pipeline::packet_queue() {
+  if (impl_->push_source == nullptr) {
+    throw std::logic_error("Pipeline::packet_queue(): the source is not a PushSourceConfig");
+  }
+  return *impl_->push_source;
+}
+
+std::string describe(const SourceConfig& source) {
+  if (const auto* pcap = std::get_if<PcapSourceConfig>(&source)) return "pcap " + pcap->path;
+  if (const auto* udp = std::get_if<UdpSourceConfig>(&source)) {
+    return "udp " + udp->bind_address + ":" + std::to_string(udp->data_port);
+  }
+  return "push queue";
+}
 
 }  // namespace vlpground

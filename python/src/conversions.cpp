@@ -4,13 +4,16 @@ namespace vlpground::python {
 
 using py::literals::operator""_a;
 
-std::string method_name(const DetectorConfig& config) { return config.method; }
+std::string method_name(const DetectorConfig& config) {
+  return std::string(to_string(config.method));
+}
 
 void set_method(DetectorConfig& config, const std::string& name) {
-  if (name != "tangent" && name != "ransac" && name != "lpr") {
+  const auto method = parse_ground_method(name);
+  if (!method) {
     throw py::value_error("method must be 'tangent', 'ransac' or 'lpr', got '" + name + "'");
   }
-  config.method = name;
+  config.method = *method;
 }
 
 Model parse_model(const std::string& name) {

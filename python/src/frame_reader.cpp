@@ -58,7 +58,7 @@ class FrameReader {
       gps_.has_position = true;
       gps_.last = p;
     });
-    reader_.on_warning([this](const std::string& w) { pending_warnings_.push_back(w); });
+    reader_.on_warning([this](std::error_code, const std::string& w) { pending_warnings_.push_back(w); });
   }
 
   PyFrame next() {

@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
     vlpground::PipelineConfig config;
     vlpground::PcapSourceConfig pcap;
     pcap.path = argv[1];
-    config.pcap = pcap;
+    config.source = pcap;
     vlpground::Pipeline pipeline(config);
     pipeline.on_frame([](const vlpground::LabelledFrame& f) {
       const vlpground::FrameMeta& m = f.frame.meta;

@@ -67,7 +67,7 @@ ReadResult read_all(const std::string& path) {
   config.path = path;
   CaptureReader reader(open_pcap_source(config));
   ReadResult r;
-  reader.on_warning([&](const std::string& w) { r.warnings.push_back(w); });
+  reader.on_warning([&](std::error_code, const std::string& w) { r.warnings.push_back(w); });
   reader.on_position([&](const PositionPacket&) { ++r.positions; });
   Frame frame;
   ReadStatus status;

@@ -75,6 +75,10 @@ TEST_CASE("calibration YAML: a good file is applied", "[decoder][model]") {
   config.calibration_file = path;
   PacketDecoder decoder(config);
   CHECK(decoder.sensor_model(Model::vlp16).lasers[3].vertical_offset_m == Approx(0.01));
+  // Frames name the calibration they were decoded with (shared, one object per decoder).
+  CHECK(decoder.calibration(Model::vlp16)->source == path);
+  CHECK(decoder.calibration(Model::hires) == decoder.calibration(Model::vlp16));
+  CHECK(PacketDecoder().calibration(Model::hires)->source == "built-in");
 }
 
 TEST_CASE("calibration YAML: malformed files are rejected with the file and field",

@@ -219,3 +219,29 @@ TEST_CASE("a GPS hour unlike the host clock's re-bases time by whole hours, once
   REQUIRE(decoder.decode(data_packet(1'003'981), host_ns, out) == DecodeStatus::ok);
   CHECK(out.time_rebase_ns == 0);
 }
+
+TEST_CASE("time source: host clock, GPS without PPS, GPS with PPS", "[decoder][time]") {
+  PacketDecoder decoder;
+  DecodedPacket out;
+  REQUIRE(decoder.decode(data_packet(1'000'000), kTopOfHourNs, out) == DecodeStatus::ok);
+  CHECK(out.time_source == TimeSource::host_clock);
+  std::array<std::uint8_t, kPositionPacketBytes> bytes{};
+  sim::encode_position_packet(1'000'500'000, PpsStatus::synchronizing,
+                              sim::make_gprmc(kTopOfHourNs + kSecond, true, 48, 11, 0, 0), bytes);
+  PositionPacket position;
+  REQUIRE(parse_position_packet(bytes, 0, position));
+  decoder.note_gps_status(position);
+  CHECK_FALSE(decoder.set_gps_time_reference(position));  // PPS not locked
+  REQUIRE(decoder.decode(data_packet(1'001'327), kTopOfHourNs, out) == DecodeStatus::ok);
+  CHECK(out.time_source == TimeSource::gps_no_pps);
+  position.pps = PpsStatus::locked;
+  decoder.note_gps_status(position);
+  REQUIRE(decoder.set_gps_time_reference(position));
+  REQUIRE(decoder.decode(data_packet(1'002'654), kTopOfHourNs, out) == DecodeStatus::ok);
+  CHECK(out.time_source == TimeSource::gps_pps);
+  CHECK(to_string(out.time_source) == "gps_pps");
+  position.pps = PpsStatus::absent;  // PPS lost: the sensor clock free-runs again
+  decoder.note_gps_status(position);
+  REQUIRE(decoder.decode(data_packet(1'003'981), kTopOfHourNs, out) == DecodeStatus::ok);
+  CHECK(out.time_source == TimeSource::gps_no_pps);
+}

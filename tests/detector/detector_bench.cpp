@@ -39,7 +39,7 @@ void bm_detect(benchmark::State& state, const std::string& stem, const std::stri
     return;
   }
   DetectorConfig cfg;
-  cfg.method = method;
+  cfg.method = *parse_ground_method(method);
   GroundDetector det(cfg);
   GroundResult result;
   det.detect(frames->front(), result);  // warm-up: sizes every workspace

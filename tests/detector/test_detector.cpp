@@ -74,7 +74,7 @@ TEST_CASE("DetectorConfig::validate names the bad field", "[detector][config]") 
     }
   };
   DetectorConfig c;
-  c.method = "magic";
+  c.method = static_cast<GroundMethod>(9);  // not a method
   expect_bad(c, "method");
   c = {};
   c.grid_bins = 1;
@@ -216,4 +216,14 @@ TEST_CASE("extrinsics are applied before fitting", "[detector]") {
   bool tilted = false;
   for (const auto& s : r_raw.segments) tilted = tilted || (s.has_ground && s.plane.nz < 0.998f);
   CHECK(tilted);
+}
+
+TEST_CASE("GroundMethod names round-trip; anything else is refused") {
+  for (GroundMethod m : {GroundMethod::tangent, GroundMethod::ransac, GroundMethod::lpr}) {
+    CHECK(parse_ground_method(to_string(m)) == m);
+  }
+  CHECK(to_string(GroundMethod::tangent) == "tangent");
+  CHECK_FALSE(parse_ground_method("Tangent").has_value());
+  CHECK_FALSE(parse_ground_method("").has_value());
+  CHECK(DetectorConfig{}.method == GroundMethod::tangent);
 }

@@ -77,13 +77,13 @@ const Scores& all_scores() {
       if (!pcap || !labels || !json) return Scores{};
       std::vector<vlpground::DetectorConfig> configs;
       for (const char* method : kMethods) {
-        configs.emplace_back().method = method;
+        configs.emplace_back().method = *vlpground::parse_ground_method(method);
         configs.back().extrinsics = vlpground::eval::load_sim_extrinsics(*json);
       }
       vlpground::eval::CaptureScoreOptions options;
       options.max_frames = 5;
       for (auto& score : vlpground::eval::score_capture(*pcap, *labels, configs, options)) {
-        out[{stem, score.method}] = std::move(score);
+        out[{stem, std::string(to_string(score.method))}] = std::move(score);
       }
     }
     return out;
@@ -154,7 +154,7 @@ TEST_CASE("per-frame scores add up to the capture score", "[evaluation][sim]") {
   const auto labels = vlpground::test::shared_file("sim", "urban_strongest.labels");
   VLPGROUND_REQUIRE_SHARED(pcap);
   vlpground::DetectorConfig config;
-  config.method = "lpr";
+  config.method = vlpground::GroundMethod::lpr;
   vlpground::eval::CaptureScoreOptions options;
   options.max_frames = 2;
   vlpground::eval::Score sum;

@@ -172,7 +172,7 @@ TEST_CASE("ransac is deterministic for a seed and uses it", "[evaluation][baseli
   const Frame frame = make_frame(true);
   const detail::Cloud cloud = cloud_of(frame);
   vlpground::DetectorConfig config;
-  config.method = "ransac";
+  config.method = vlpground::GroundMethod::ransac;
   config.hypotheses = 5;  // few hypotheses: different seeds should find different planes
   auto first = detail::make_ransac_method(config);
   GroundResult a = sized_result(frame), b = sized_result(frame);

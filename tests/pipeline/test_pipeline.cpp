@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <condition_variable>
@@ -9,6 +10,7 @@
 #include "fake_source.hpp"
 #include "test_data.hpp"
 #include "vlpground/driver/capture_reader.hpp"
+#include "vlpground/driver/sensor_model.hpp"
 #include "vlpground/pipeline.hpp"
 
 using namespace vlpground;
@@ -97,7 +99,10 @@ TEST_CASE("an exception in the frame callback is reported and the pipeline goes 
     if (f.delivered_index == 3) throw 42;
   });
   p.on_diagnostics([&](const Diagnostic& d) {
-    if (d.kind == DiagnosticKind::callback_exception) reports.push_back(d.message);
+    if (d.kind == DiagnosticKind::callback_exception) {
+      CHECK(d.code == ErrorCode::callback_exception);
+      reports.push_back(d.message);
+    }
   });
   p.start();
   p.wait();
@@ -216,7 +221,10 @@ TEST_CASE("live sources drop the oldest pending frame when the detector falls be
     sequences.push_back(f.frame.meta.sequence);
   });
   p.on_diagnostics([&](const Diagnostic& d) {
-    if (d.kind == DiagnosticKind::frame_dropped) drop_reports.push_back(d.message);
+    if (d.kind == DiagnosticKind::frame_dropped) {
+      CHECK(d.code == ErrorCode::frame_dropped);
+      drop_reports.push_back(d.message);
+    }
   });
   p.start();
   p.wait();
@@ -257,7 +265,7 @@ TEST_CASE("a shared sim capture replays through the pipeline like a CaptureReade
     while (reader.next(frame) == ReadStatus::frame) expected.push_back(frame.columns());
   }
   PipelineConfig c = fast_config();
-  c.pcap = sc;
+  c.source = sc;
   Pipeline p(c);
   std::vector<int> got;
   p.on_frame([&](const LabelledFrame& f) { got.push_back(f.frame.columns()); });
@@ -274,7 +282,93 @@ TEST_CASE("bad configuration is rejected with a clear message") {
   PipelineConfig missing;
   PcapSourceConfig absent;
   absent.path = "/nonexistent/file.pcap";
-  missing.pcap = absent;
+  missing.source = absent;
   Pipeline p(missing);
   CHECK_THROWS_AS(p.start(), std::runtime_error);
+  try {
+    Pipeline again(missing);
+    again.start();
+    FAIL("opened a missing file");
+  } catch (const Error& e) {
+    CHECK(e.code() == ErrorCode::cannot_open_file);
+    CHECK(e.code().category().name() == std::string("vlpground"));
+    CHECK(std::string(e.what()).find("/nonexistent/file.pcap") != std::string::npos);
+  }
+}
+
+TEST_CASE("errors: every code has a message in the vlpground category") {
+  for (int v = static_cast<int>(ErrorCode::cannot_open_file);
+       v <= static_cast<int>(ErrorCode::source_failed); ++v) {
+    const std::error_code code = static_cast<ErrorCode>(v);
+    INFO(v);
+    CHECK(code.category() == error_category());
+    CHECK(code.message() != "unknown vlpground error");
+    CHECK(static_cast<bool>(code));
+  }
+  CHECK_FALSE(std::error_code{});  // "no error": the `finished` diagnostic's code
+}
+
+TEST_CASE("push source config: packets pushed from elsewhere become labelled frames") {
+  const Recorded expected = read_directly(kPackets);
+  PipelineConfig c = fast_config();
+  PushSourceConfig push;
+  push.block_when_full = true;  // a recording played in: nothing may be lost
+  push.capacity_packets = 64;
+  c.source = push;
+  Pipeline p(c);
+  CHECK(describe(c.source) == "push queue");
+  PacketQueueSource& queue = p.packet_queue();
+  std::vector<std::uint64_t> sequences;
+  bool calibrated = true, host_time = true;
+  p.on_frame([&](const LabelledFrame& f) {
+    sequences.push_back(f.frame.meta.sequence);
+    calibrated = calibrated && f.frame.meta.calibration != nullptr &&
+                 f.frame.meta.calibration->source == "built-in";
+    host_time = host_time && f.frame.meta.time_source == TimeSource::host_clock;
+  });
+  p.start();
+  std::thread feeder([&] {
+    FakeSource packets(kPackets, false);  // the "other middleware"
+    PacketView view;
+    while (packets.next(view, 0) == SourceStatus::packet) {
+      queue.push(std::as_bytes(view.bytes), view.receive_ns, view.kind);
+    }
+    queue.close();
+  });
+  p.wait();
+  feeder.join();
+  CHECK(sequences == expected.sequence);
+  CHECK(calibrated);
+  CHECK(host_time);
+  CHECK(p.stats().capture.source.queue_full == 0);
+  CHECK_FALSE(p.stats().live);
+}
+
+TEST_CASE("push source config: a full queue is reported once with its code and counted") {
+  PipelineConfig c = fast_config();
+  PushSourceConfig push;
+  push.capacity_packets = 8;  // refuses when full: a live feed
+  c.source = push;
+  Pipeline p(c);
+  std::vector<std::error_code> codes;
+  p.on_diagnostics([&](const Diagnostic& d) {
+    if (d.kind == DiagnosticKind::warning) codes.push_back(d.code);
+  });
+  p.on_frame([](const LabelledFrame&) {});
+  // Fill the queue before start(): the reader cannot have drained it yet.
+  FakeSource packets(20, false);
+  PacketView view;
+  std::uint64_t refused = 0;
+  while (packets.next(view, 0) == SourceStatus::packet) {
+    refused += p.packet_queue().push(std::as_bytes(view.bytes), view.receive_ns, view.kind) ==
+               PushResult::full;
+  }
+  p.packet_queue().close();
+  p.start();
+  p.wait();
+  CHECK(refused == 12);
+  CHECK(p.stats().capture.source.queue_full == 12);
+  CHECK(std::count(codes.begin(), codes.end(), make_error_code(ErrorCode::queue_full)) == 1);
+  CHECK(p.stats().live);
+  CHECK_THROWS_AS(Pipeline(fast_config()).packet_queue(), std::logic_error);
 }

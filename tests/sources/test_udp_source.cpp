@@ -15,6 +15,7 @@
 #include "capture_builder.hpp"
 #include "loopback.hpp"
 #include "vlpground/driver/packet_source.hpp"
+#include "vlpground/error.hpp"
 
 using namespace vlpground;
 using vlpground::test::Bytes;
@@ -141,7 +142,8 @@ TEST_CASE("udp: a port in use is a clear error, unless both ask for reuse") {
   try {
     open_udp_source(config);
     FAIL("second bind succeeded");
-  } catch (const std::runtime_error& e) {
+  } catch (const Error& e) {
+    CHECK(e.code() == ErrorCode::port_in_use);
     const std::string message = e.what();
     INFO(message);
     CHECK(message ==

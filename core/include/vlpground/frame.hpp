@@ -10,11 +10,14 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "vlpground/types.hpp"
 
 namespace vlpground {
+
+struct SensorModel;  // vlpground/driver/sensor_model.hpp
 
 /// Default column capacity: a full rotation at 300 rpm (~3617 sequences) plus margin.
 inline constexpr int kDefaultFrameCapacity = 4096;
@@ -63,6 +66,11 @@ struct FrameMeta {
   // Receive time (host steady clock, ns) of the packet that completed the frame; the
   // pipeline measures latency from it.
   std::int64_t completed_receive_ns = 0;
+  TimeSource time_source = TimeSource::host_clock;  // of the frame's times (all on one base)
+  // The geometry the frame was decoded with (built-in or a calibration file: see
+  // SensorModel::source); shared, never copied per frame. Set by CaptureReader (and so the
+  // pipeline); null for frames assembled by hand.
+  std::shared_ptr<const SensorModel> calibration;
 };
 
 class Frame {

@@ -12,6 +12,14 @@ inline constexpr int kLasers = 16;
 /// Sensor models of the VLP-16 family. Puck LITE decodes as `vlp16`.
 enum class Model : std::uint8_t { vlp16, hires };
 
+/// Where a frame's times come from (FrameMeta::time_source), for fusion stacks.
+enum class TimeSource : std::uint8_t {
+  host_clock,  // no GPS: the sensor's clock placed on the host clock (hour, offset)
+  gps_no_pps,  // a GPS fix arrives but PPS is not locked: the sensor clock is not
+               // disciplined; placed on the host clock as without GPS
+  gps_pps,     // GPS with PPS locked: UTC (the hour from $GPRMC, the us from the sensor)
+};
+
 /// Return mode announced by byte 1204 of a data packet.
 enum class ReturnMode : std::uint8_t { strongest, last, dual };
 
@@ -35,6 +43,18 @@ inline constexpr int kStrongestLayer = 0;  // strongest (or the only) return
 inline constexpr int kLastLayer = 1;       // last return (dual mode only)
 
 constexpr std::string_view to_string(Model m) { return m == Model::hires ? "hires" : "vlp16"; }
+
+constexpr std::string_view to_string(TimeSource s) {
+  switch (s) {
+    case TimeSource::host_clock:
+      return "host_clock";
+    case TimeSource::gps_no_pps:
+      return "gps_no_pps";
+    case TimeSource::gps_pps:
+      return "gps_pps";
+  }
+  return "?";
+}
 
 constexpr std::string_view to_string(ReturnMode m) {
   switch (m) {

@@ -30,14 +30,17 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
-#include <optional>
 #include <string>
+#include <system_error>
+#include <variant>
 
 #include "vlpground/detector/ground_detector.hpp"
 #include "vlpground/driver/capture_reader.hpp"
+#include "vlpground/driver/packet_queue_source.hpp"
 #include "vlpground/driver/packet_source.hpp"
 #include "vlpground/driver/position_packet.hpp"
 #include "vlpground/driver/rotation_assembler.hpp"
+#include "vlpground/error.hpp"
 #include "vlpground/frame.hpp"
 
 namespace vlpground {
@@ -48,11 +51,16 @@ enum class Backpressure : std::uint8_t {
   drop_oldest,  // the oldest pending frame is dropped (counted) to make room
 };
 
+/// Where packets come from: a UDP socket (live), a pcap file (replay), or packets the
+/// program pushes (Pipeline::packet_queue()).
+using SourceConfig = std::variant<UdpSourceConfig, PcapSourceConfig, PushSourceConfig>;
+
+/// "udp 0.0.0.0:2368", "pcap FILE", "push queue" (for logs).
+std::string describe(const SourceConfig& source);
+
 struct PipelineConfig {
-  // The source: a pcap file when `pcap` is set, else a UDP socket (`udp`). Ignored when a
-  // PacketSource is handed to the Pipeline constructor.
-  std::optional<PcapSourceConfig> pcap;
-  UdpSourceConfig udp;
+  // Ignored when a PacketSource is handed to the Pipeline constructor.
+  SourceConfig source = UdpSourceConfig{};
   DecoderConfig decoder;
   AssemblerConfig assembler;
   DetectorConfig detector;
@@ -115,7 +123,7 @@ struct LabelledFrame {
 using FrameLease = std::shared_ptr<const LabelledFrame>;
 
 enum class DiagnosticKind : std::uint8_t {
-  warning,             // from the decoder / reader (once per distinct warning)
+  warning,             // from the decoder / reader / source (once per distinct warning)
   frame_dropped,       // drop-oldest policy dropped a pending frame
   callback_exception,  // the frame callback threw; the pipeline goes on
   source_error,        // the reader failed (exception); input ends
@@ -124,7 +132,8 @@ enum class DiagnosticKind : std::uint8_t {
 
 struct Diagnostic {
   DiagnosticKind kind = DiagnosticKind::warning;
-  std::string message;
+  std::error_code code;  // vlpground::ErrorCode (error_category()); empty for `finished`
+  std::string message;   // one line for people, with the specifics
   PipelineStats stats;  // snapshot of the counters at the time of the event
 };
 
@@ -137,7 +146,7 @@ class Pipeline {
  public:
   /// Validates `config` (std::invalid_argument). The source is opened by start().
   explicit Pipeline(PipelineConfig config);
-  /// Uses `source` instead of the one described by `config` (tests, custom transports).
+  /// Uses `source` instead of the one described by `config.source` (tests, custom transports).
   Pipeline(PipelineConfig config, std::unique_ptr<PacketSource> source);
   /// Stops and joins both threads.
   ~Pipeline();
@@ -152,8 +161,9 @@ class Pipeline {
   void on_telemetry(TelemetryCallback callback);
   void on_diagnostics(DiagnosticsCallback callback);
 
-  /// Opens the source (std::runtime_error with a one-line reason when it cannot) and starts
-  /// both threads. Throws std::logic_error when called twice.
+  /// Opens the source and starts both threads. Throws vlpground::Error (a
+  /// std::runtime_error with an ErrorCode and a one-line reason) when the source cannot be
+  /// opened, std::logic_error when called twice.
   void start();
   /// Asks both threads to end; returns at once. Pending frames are discarded. Idempotent.
   void stop();
@@ -170,6 +180,11 @@ class Pipeline {
   [[nodiscard]] bool at_end() const;
 
   [[nodiscard]] PipelineStats stats() const;
+
+  /// The push source when config.source holds a PushSourceConfig: push packets into it from
+  /// any thread (before or after start()), close() it at the end of the input. Throws
+  /// std::logic_error for other sources.
+  PacketQueueSource& packet_queue();
 
  private:
   struct Impl;

@@ -1,6 +1,7 @@
 // Ground-surface detection on a 16 x N range image (paper: "On Enhancing Ground Surface
-// Detection from Sparse Lidar Point Cloud", Li). Methods: "tangent" (the paper's, default),
-// "ransac" (single-plane baseline), "lpr" (Zermas et al. 2017 ground-plane fitting).
+// Detection from Sparse Lidar Point Cloud", Li). Methods (GroundMethod): tangent (the
+// paper's, default), ransac (single-plane baseline), lpr (Zermas et al. 2017 ground-plane
+// fitting).
 //
 // Thread-safety: a GroundDetector keeps a reusable workspace; use one per thread.
 #pragma once
@@ -8,7 +9,9 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "vlpground/frame.hpp"
@@ -17,6 +20,34 @@ namespace vlpground {
 
 enum class GroundLabel : std::uint8_t { no_return = 0, ground = 1, obstacle = 2 };
 
+/// Ground detection method.
+enum class GroundMethod : std::uint8_t {
+  tangent,  // the paper's: tangent-verified RANSAC over four cross-partition segments
+  ransac,   // baseline: one RANSAC plane
+  lpr,      // baseline: Zermas et al. 2017 lowest-point-representative plane fitting
+};
+
+/// "tangent", "ransac", "lpr".
+constexpr std::string_view to_string(GroundMethod m) {
+  switch (m) {
+    case GroundMethod::tangent:
+      return "tangent";
+    case GroundMethod::ransac:
+      return "ransac";
+    case GroundMethod::lpr:
+      return "lpr";
+  }
+  return "?";
+}
+
+/// The method named `name` (as to_string() spells it); nullopt for anything else.
+constexpr std::optional<GroundMethod> parse_ground_method(std::string_view name) {
+  for (GroundMethod m : {GroundMethod::tangent, GroundMethod::ransac, GroundMethod::lpr}) {
+    if (name == to_string(m)) return m;
+  }
+  return std::nullopt;
+}
+
 /// Sensor-to-vehicle transform applied before fitting (the paper assumes it known).
 struct Extrinsics {
   double x_m = 0, y_m = 0, z_m = 0;
@@ -24,7 +55,7 @@ struct Extrinsics {
 };
 
 struct DetectorConfig {
-  std::string method = "tangent";  // "tangent" | "ransac" | "lpr"
+  GroundMethod method = GroundMethod::tangent;
   Extrinsics extrinsics;
   double fit_radius_m = 40.0;  // returns used for fitting
   int grid_bins = 80;          // B

@@ -9,6 +9,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <system_error>
 
 #include "vlpground/driver/packet_decoder.hpp"
 #include "vlpground/driver/packet_source.hpp"
@@ -42,8 +43,9 @@ class CaptureReader {
 
   /// Called for every position packet (from the thread calling next()).
   void on_position(std::function<void(const PositionPacket&)> callback);
-  /// Called once per distinct warning (product byte mismatch, not a VLP-16, ...).
-  void on_warning(std::function<void(const std::string&)> callback);
+  /// Called once per distinct warning (product byte mismatch, not a VLP-16, ...) with its
+  /// code (vlpground::ErrorCode) and message.
+  void on_warning(std::function<void(std::error_code, const std::string&)> callback);
 
   [[nodiscard]] CaptureCounters counters() const;
   [[nodiscard]] const PacketSource& source() const;

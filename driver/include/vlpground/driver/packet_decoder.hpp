@@ -15,6 +15,7 @@
 
 #include "vlpground/driver/position_packet.hpp"
 #include "vlpground/driver/sensor_model.hpp"
+#include "vlpground/error.hpp"
 #include "vlpground/types.hpp"
 
 namespace vlpground {
@@ -64,6 +65,7 @@ struct DecodedPacket {
   // The packet stamps themselves stay continuous; consumers re-base earlier times by it.
   std::int64_t time_rebase_ns = 0;
   std::int64_t receive_ns = 0;  // receive time given by the caller
+  TimeSource time_source = TimeSource::host_clock;  // where time_ns came from
   std::uint16_t first_azimuth_centideg = 0;
   // 0-based index of this packet among all packets given to PacketDecoder::decode()
   // (the k-th data packet of a capture); ground-truth files are indexed by it.
@@ -133,11 +135,22 @@ class PacketDecoder {
   /// gets the hour of its receive time that puts it NEAREST to that receive time.
   bool set_gps_time_reference(const PositionPacket& position);
 
+  /// What a position packet says about GPS (fix valid, PPS locked): decides
+  /// DecodedPacket::time_source together with the references above. CaptureReader calls it
+  /// for every position packet.
+  void note_gps_status(const PositionPacket& position);
+
   [[nodiscard]] const DecoderCounters& counters() const { return counters_; }
   [[nodiscard]] const SensorModel& sensor_model(Model m) const;
+  /// The same model, shared (frames keep it in FrameMeta::calibration).
+  [[nodiscard]] const std::shared_ptr<const SensorModel>& calibration(Model m) const;
   /// The most recent of the human-readable warnings, each raised once (product byte
   /// mismatch, not a VLP-16); empty if none.
   [[nodiscard]] const std::string& last_warning() const { return last_warning_; }
+  /// The code of last_warning() (product_mismatch, wrong_sensor); empty if none.
+  [[nodiscard]] std::error_code last_warning_code() const {
+    return warning_count_ == 0 ? std::error_code{} : make_error_code(last_warning_code_);
+  }
   /// Number of distinct warnings raised so far: a caller sees a new warning when it grows.
   [[nodiscard]] int warning_count() const { return warning_count_; }
 
@@ -147,13 +160,14 @@ class PacketDecoder {
   void judge_timing(std::uint32_t stamp_us);
   Model choose_model(std::uint8_t product_byte);
   std::int64_t resolve_time_ns(std::uint32_t stamp_us, std::int64_t receive_ns);
-  void warn_once(bool& raised, std::string message);
+  void warn_once(bool& raised, ErrorCode code, std::string message);
 
   DecoderConfig config_;
-  SensorModel vlp16_, hires_;
+  std::shared_ptr<const SensorModel> vlp16_, hires_;
   std::unique_ptr<Constants> constants_;
   DecoderCounters counters_;
   std::string last_warning_;
+  ErrorCode last_warning_code_ = ErrorCode::product_mismatch;
   int warning_count_ = 0;
   bool warned_product_ = false;
   bool warned_not_vlp16_ = false;
@@ -170,6 +184,8 @@ class PacketDecoder {
   std::int64_t gps_top_of_hour_ns_ = 0;
   std::int64_t gps_anchor_ns_ = 0;  // a GPS-clock time near the current packets
   bool reference_changed_ = false;  // a GPS reference arrived since the last packet
+  bool gps_fix_ = false;            // latest position packet: valid $GPRMC
+  bool pps_locked_ = true;          // latest position packet: PPS locked (assumed until one)
   bool have_resolved_ = false;
   std::int64_t last_resolved_ns_ = 0;  // time of the previous decoded packet
 };

@@ -114,12 +114,14 @@ struct UdpSourceConfig {
   void validate() const;
 };
 
-/// Opens a capture. Throws std::runtime_error with a one-line reason when the file is
+/// Opens a capture. Throws vlpground::Error (a std::runtime_error; cannot_open_file,
+/// unsupported_link_type) with a one-line reason when the file is
 /// missing, unreadable, not a capture or of an unsupported link type;
 /// std::invalid_argument when validate() fails.
 std::unique_ptr<PacketSource> open_pcap_source(const PcapSourceConfig& config);
 
-/// Binds the sockets. Throws std::runtime_error when the port is in use ("port 2368 on
+/// Binds the sockets. Throws vlpground::Error (port_in_use, permission_denied,
+/// address_not_available, socket_error) when the port is in use ("port 2368 on
 /// 0.0.0.0 is already in use"), the address is bad or not on this host, or validate() fails.
 /// `granted_buffer_bytes` (optional) receives the kernel's actual receive buffer size (Linux
 /// reports twice the request, capped at 2 x net.core.rmem_max without CAP_NET_ADMIN).

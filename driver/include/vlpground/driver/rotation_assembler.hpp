@@ -139,6 +139,7 @@ class RotationAssembler {
   std::int64_t last_seen_time_ns_ = 0;    // newest packet used or found off-grid
   ReturnMode mode_ = ReturnMode::strongest;
   Model model_ = Model::vlp16;
+  TimeSource time_source_ = TimeSource::host_clock;  // of the newest packet
   bool have_column_ = false;
   std::int64_t last_column_time_ns_ = 0;
   double last_column_az_deg_ = 0.0;

@@ -31,6 +31,7 @@ struct SensorModel {
   std::array<std::uint8_t, kLasers> ring_of_laser{};  // 0 = lowest elevation
   std::array<std::uint8_t, kLasers> laser_of_ring{};
   double distance_resolution_m = 0.002;  // range unit of the packet (2 mm)
+  std::string source = "built-in";       // "built-in", or the calibration file's path
 
   /// The manual's angles and offsets for `model`.
   static SensorModel builtin(Model model);

@@ -130,7 +130,7 @@ class FrameScorer {
 /// Score of a whole capture under one detector configuration.
 struct CaptureScore {
   std::string capture;  // file stem
-  std::string method;
+  GroundMethod method = GroundMethod::tangent;
   Score score;
   double detect_ms_total = 0;  // wall time spent in GroundDetector::detect
 };
