@@ -142,13 +142,17 @@ class FrameReader {
     }
   }
 
-  // A capture with data packets that produced no frame is an error, not an empty result.
+  // A capture that produced no frame is an error (not a VLP-16 capture, truncated, empty),
+  // as for the CLI, not an empty result.
   void check_something_decoded() {
+    if (delivered_ > 0) return;
     const CaptureCounters c = reader_.counters();
-    if (delivered_ > 0 || c.source.data_packets == 0) return;
-    std::string why = warnings_.empty() ? "" : " (" + warnings_.back() + ")";
-    throw std::runtime_error(description_ + ": no frame decoded from " +
-                             std::to_string(c.source.data_packets) + " data packets" + why);
+    std::string why = warnings_.empty() ? "" : ": " + warnings_.back();
+    throw std::runtime_error(
+        description_ + ": no VLP-16 frame decoded (" + std::to_string(c.source.records) +
+        " records, " + std::to_string(c.source.data_packets) + " data packets, " +
+        std::to_string(c.source.position_packets) + " position packets, " +
+        std::to_string(c.source.truncated) + " truncated)" + why);
   }
 
   bool live_;

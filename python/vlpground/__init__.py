@@ -109,8 +109,8 @@ def read_pcap(path: PathLike, *, method: Optional[str] = "tangent",
 
     The first and last frames of a capture are usually partial rotations
     (``frame.meta.complete`` is False), exactly as the CLI delivers them. Raises
-    RuntimeError when the file is missing or not a capture, and at the end when data
-    packets were read but no frame decoded (e.g. not a VLP-16).
+    RuntimeError when the file is missing or not a capture, and at the end when no frame
+    was decoded (no VLP-16 data packets: another sensor, other ports, truncated, empty).
     """
     return _core._open_pcap(os.fspath(path), _detector(method, extrinsics, detector),
                             os.fspath(calibration) if calibration else "", model,
