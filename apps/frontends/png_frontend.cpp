@@ -8,7 +8,10 @@ namespace {
 class PngSink : public FrameSink {
  public:
   PngSink(const std::string& dir, double view_radius_m) : writer_(dir, view_radius_m) {}
-  void write(const LabelledFrame& f) override { writer_.write(f.frame, f.ground); }
+  void write(const LabelledFrame& f) override {
+    writer_.write(f.frame, f.ground, f.timings.detect_ms);
+  }
+  void finish() override { writer_.finish(); }  // the run's overview.png
 
  private:
   PngWriter writer_;
