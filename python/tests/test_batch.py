@@ -114,3 +114,44 @@ def test_command_line_on_a_local_cluster(captures, tmp_path):
     rows = json.loads(proc.stdout)
     assert [r["status"] for r in rows] == ["done", "failed", "1 of 2 failed"]
     assert rows[0]["f1"] == vlpground.evaluate(good[0], good[0].with_suffix(".labels"))["f1"]
+
+
+def test_time_slices_lose_or_double_no_frame(captures, client, cli, tmp_path):
+    """Slices of 2 frames, one task each, joined: the CSV equals the CLI's byte for byte."""
+    good, corrupt = captures
+    paths = [good[1], good[2], corrupt]  # urban (single return), slope (dual return)
+    rows = batch.label_captures(paths, tmp_path, client=client, format="csv", slice_frames=2)
+    assert [r["status"] for r in rows] == ["done", "done", "failed"], rows
+    assert "corrupt.pcap" in rows[2]["error"]
+    for path, row in zip(paths[:2], rows):
+        assert row["slices"] == -(-vlpground.count_frames(path) // 2) >= 2
+        run(cli, "replay", path, "--csv", tmp_path / "cli.csv")
+        assert (tmp_path / "cli.csv").read_bytes() == open(row["output"], "rb").read(), path
+        assert row["frames"] == vlpground.count_frames(path)
+    assert not list(tmp_path.glob("*.part*")) and not list(tmp_path.glob("*.tmp-*"))
+    again = batch.label_captures(paths, tmp_path, client=client, format="csv", slice_frames=2)
+    assert [r["status"] for r in again] == ["skipped", "skipped", "failed"]
+
+
+def test_time_slices_in_process_equal_the_whole_capture(captures, tmp_path):
+    good, _ = captures
+    whole = batch.label_captures(good[:1], tmp_path / "whole")[0]
+    sliced = batch.label_captures(good[:1], tmp_path / "sliced", slice_frames=1)[0]
+    assert sliced["slices"] == whole["frames"] >= 3
+    a, b = batch.read_npz(whole["output"]), batch.read_npz(sliced["output"])
+    assert a.keys() == b.keys() and all(np.array_equal(a[k], b[k]) for k in a)
+
+
+def test_command_line_on_a_scheduler_address(captures, client, tmp_path):
+    """--scheduler ADDR: the tasks run on an existing cluster (here the module's)."""
+    good, _ = captures
+    address = client.scheduler.address
+    assert address.startswith("tcp://127.0.0.1:")
+    proc = subprocess.run(
+        [sys.executable, "-m", "vlpground.batch", "label", str(good[0]), str(good[1]),
+         "--out", str(tmp_path), "--format", "npz", "--scheduler", address, "--json"],
+        capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    rows = json.loads(proc.stdout)
+    assert [r["status"] for r in rows] == ["done", "done"]
+    assert sorted(p.name for p in tmp_path.glob("*.npz")) == sorted(f"{p.stem}.npz" for p in good[:2])

@@ -6,7 +6,7 @@
     rows = batch.label_captures(paths, "/shared/labels", client=client, format="npz")
     table = batch.evaluate_captures([(pcap, labels), ...], client=client)
 
-One task per capture. Each task writes its result under ``out_dir``, which must be a path
+One task per capture (or per slice of N frames with ``slice_frames=N``). Each task writes its result under ``out_dir``, which must be a path
 every worker can write (a shared filesystem on a real cluster). A capture that fails is a
 row with ``status == "failed"`` and its ``error``; the others complete. A re-run skips
 captures whose output is complete (``status == "skipped"``). Without a client the current
@@ -16,17 +16,20 @@ process. Command line: ``python3 -m vlpground.batch --help``.
 from __future__ import annotations
 
 import os
+from collections import deque
+from math import ceil
 from pathlib import Path
-from typing import Iterable, List, Optional, Sequence, Tuple
+from typing import Callable, Iterable, List, Optional, Sequence, Tuple
 
 import vlpground
 from vlpground import _core
 
-from ._tasks import evaluate_one, label_one
+from . import _tasks
+from ._tasks import count_one, done_row, evaluate_one, label_one, label_row, merge_parts, part_path
 from ._writers import FORMATS, check_format, parquet_available, read_npz
 
 __all__ = ["label_captures", "evaluate_captures", "format_table", "read_npz", "FORMATS",
-           "parquet_available"]
+           "EVAL_FIELDS", "parquet_available"]
 
 # Figures of each row of evaluate_captures, as `vlpground eval --json`.
 EVAL_FIELDS = ("capture", "method", "radius_m", "frames", "precision", "recall", "f1", "tp",
@@ -44,28 +47,60 @@ def _default_client(client):
         return None
 
 
-def _run(client, fn, jobs: Sequence[tuple], keys: Sequence[str]) -> List[dict]:
-    """Runs fn(*job) for every job, on `client` (one task each) or here; rows in job order."""
+# A job: (function, arguments, tag); the first argument names the capture.
+Job = Tuple[Callable, tuple, object]
+
+
+def _drive(client, jobs: Sequence[Job],
+           handle: Callable[[object, object, Optional[BaseException]], Iterable[Job]]) -> None:
+    """Runs every job, on `client` (one task each) or here, one by one; ``handle(tag, result,
+    error)`` receives each outcome as it completes and may return further jobs."""
     client = _default_client(client)
     if client is None:
-        return [fn(*job) for job in jobs]
+        queue = deque(jobs)
+        while queue:
+            fn, args, tag = queue.popleft()
+            try:
+                result, error = fn(*args), None
+            except Exception as e:  # noqa: BLE001 (handed to `handle`)
+                result, error = None, e
+            queue.extend(handle(tag, result, error))
+        return
+    if not jobs:
+        return
     from distributed import as_completed
-    futures = [client.submit(fn, *job, key=key, pure=False) for job, key in zip(jobs, keys)]
-    index = {f.key: i for i, f in enumerate(futures)}
-    rows: List[Optional[dict]] = [None] * len(futures)
-    for future in as_completed(futures):
-        i = index[future.key]
+    tags = {}
+
+    def submit(job: Job):
+        fn, args, tag = job
+        key = f"vlpground-{fn.__name__}-{Path(str(args[0])).name}-{os.urandom(4).hex()}"
+        future = client.submit(fn, *args, key=key, pure=False)
+        tags[future.key] = tag
+        return future
+
+    pending = as_completed([submit(job) for job in jobs])
+    for future in pending:
+        tag = tags.pop(future.key)
         try:
-            rows[i] = future.result()
-        except Exception as error:  # noqa: BLE001 (a worker died: KilledWorker, ...)
-            rows[i] = {"capture": str(jobs[i][0]), "pcap": str(jobs[i][0]), "status": "failed",
-                       "error": f"{type(error).__name__}: {error}"}
+            result, error = future.result(), None
+        except Exception as e:  # noqa: BLE001 (a worker died: KilledWorker, ...)
+            result, error = None, e
         future.release()
-    return rows  # type: ignore[return-value]
+        for job in handle(tag, result, error):
+            pending.add(submit(job))
 
 
-def _task_key(kind: str, path: str) -> str:
-    return f"vlpground-{kind}-{Path(path).name}-{os.urandom(4).hex()}"
+def _run(client, fn: Callable, jobs: Sequence[tuple]) -> List[dict]:
+    """fn(*args) for every args (first = the capture) as one task each; rows in order."""
+    rows: List[dict] = [{} for _ in jobs]
+
+    def handle(i, result, error):
+        rows[i] = result if error is None else _tasks.failed(
+            {"capture": str(jobs[i][0]), "status": "failed"}, error, with_traceback=False)
+        return ()
+
+    _drive(client, [(fn, args, i) for i, args in enumerate(jobs)], handle)
+    return rows
 
 
 def _output_paths(paths: Sequence[str], out_dir: Path, suffix: str) -> List[Path]:
@@ -81,7 +116,7 @@ def _output_paths(paths: Sequence[str], out_dir: Path, suffix: str) -> List[Path
 
 def label_captures(paths: Iterable[os.PathLike | str], out_dir: os.PathLike | str, *,
                    client=None, method: str = "tangent", format: str = "npz",
-                   **read_options) -> List[dict]:
+                   slice_frames: Optional[int] = None, **read_options) -> List[dict]:
     """Labels every capture into ``out_dir/STEM.{npz,csv,parquet}``.
 
     ``read_options`` are those of vlpground.read_pcap (extrinsics, calibration, model,
@@ -92,18 +127,73 @@ def label_captures(paths: Iterable[os.PathLike | str], out_dir: os.PathLike | st
     ``parquet`` (same columns as npz; needs pyarrow, not packaged in Debian 12: a clear
     ValueError without it).
 
+    ``slice_frames=N`` cuts each capture into slices of N frames, one task each, then joins
+    them in a last task: frames are cut where the whole capture is cut (every slice decodes
+    the capture from its start and labels only its own frames), so none is lost or doubled
+    and the output equals the unsliced one. The frames of a capture are counted first (a
+    decoding-only task). Worth it for long captures on many workers.
+
     Returns one row per capture, in order: capture, output, status ("done", "skipped" or
-    "failed"), error, frames, returns, ground_returns, seconds.
+    "failed"), error, frames, returns, ground_returns, seconds (summed over slices).
     """
     check_format(format)
+    for key in ("loop", "first_frame") + (("frames",) if slice_frames is not None else ()):
+        if key in read_options:
+            raise ValueError(f"label_captures does not take {key}= (it labels whole captures)")
     paths = [os.fspath(p) for p in paths]
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     outputs = _output_paths(paths, out, "." + format)
     options = dict(read_options, method=method)
     vlpground._detector(method, options.get("extrinsics"), options.get("detector"))  # validate
-    jobs = [(p, os.fspath(o), format, options) for p, o in zip(paths, outputs)]
-    return _run(client, label_one, jobs, [_task_key("label", p) for p in paths])
+    if slice_frames is None:
+        return _run(client, label_one, [(p, os.fspath(o), format, options)
+                                        for p, o in zip(paths, outputs)])
+    if slice_frames < 1:
+        raise ValueError(f"slice_frames must be >= 1, got {slice_frames}")
+    return _label_sliced(client, paths, [os.fspath(o) for o in outputs], format, options,
+                         int(slice_frames))
+
+
+def _label_sliced(client, paths: List[str], outputs: List[str], fmt: str, options: dict,
+                  slice_frames: int) -> List[dict]:
+    """count -> one label task per slice -> merge, per capture, all captures at once."""
+    rows: List[Optional[dict]] = [done_row(p, o) for p, o in zip(paths, outputs)]
+    parts: dict = {}
+    waiting: dict = {}
+
+    def fail(i: int, error: str) -> None:
+        if rows[i] is None:
+            rows[i] = dict(label_row(paths[i], outputs[i]), status="failed", error=error)
+
+    def handle(tag, result, error):
+        kind, i, k = tag
+        if error is not None:
+            fail(i, f"{type(error).__name__}: {error}")
+            return ()
+        if kind == "count":
+            frames = int(result)
+            parts[i] = [os.fspath(part_path(Path(outputs[i]), s))
+                        for s in range(ceil(frames / slice_frames))]
+            waiting[i] = len(parts[i])
+            return [(label_one, (paths[i], part, fmt,
+                                 dict(options, first_frame=s * slice_frames,
+                                      frames=min(slice_frames, frames - s * slice_frames))),
+                     ("slice", i, s)) for s, part in enumerate(parts[i])]
+        if kind == "slice":
+            if result["status"] == "failed":
+                fail(i, f"slice {k}: {result['error']}")
+                return ()
+            waiting[i] -= 1
+            if waiting[i] == 0 and rows[i] is None:
+                return [(merge_parts, (paths[i], outputs[i], fmt, parts[i]), ("merge", i, 0))]
+            return ()
+        rows[i] = result  # merge
+        return ()
+
+    _drive(client, [(count_one, (p, options), ("count", i, 0))
+                    for i, p in enumerate(paths) if rows[i] is None], handle)
+    return rows  # type: ignore[return-value]
 
 
 def evaluate_captures(pairs: Iterable[Tuple[os.PathLike | str, os.PathLike | str]], *,
@@ -123,8 +213,7 @@ def evaluate_captures(pairs: Iterable[Tuple[os.PathLike | str, os.PathLike | str
         caches = [os.fspath(c) for c in
                   _output_paths([p for p, _ in pairs], Path(out_dir), ".eval.json")]
     opts = dict(options, method=method, radius_m=radius_m)
-    jobs = [(p, l, opts, c) for (p, l), c in zip(pairs, caches)]
-    rows = _run(client, evaluate_one, jobs, [_task_key("eval", p) for p, _ in pairs])
+    rows = _run(client, evaluate_one, [(p, l, opts, c) for (p, l), c in zip(pairs, caches)])
     return rows + [_overall(rows, method, radius_m)]
 
 

@@ -1,6 +1,7 @@
 """python3 -m vlpground.batch: label or evaluate captures on a Dask cluster.
 
     python3 -m vlpground.batch label CAPTURE.pcap... --out DIR [--format npz|csv|parquet]
+                                     [--slice-frames N]
     python3 -m vlpground.batch eval CAPTURE.pcap... [--labels-dir DIR] [--out DIR] [--json]
 
 Runs on the scheduler given by --scheduler ADDR (e.g. tcp://10.0.0.5:8786), else on a local
@@ -36,6 +37,8 @@ def _parser() -> argparse.ArgumentParser:
             s.add_argument("--out", type=Path, required=True, metavar="DIR",
                            help="output folder, writable by every worker")
             s.add_argument("--format", default="npz", choices=FORMATS)
+            s.add_argument("--slice-frames", type=int, metavar="N",
+                           help="cut each capture into tasks of N frames (long captures)")
         else:
             s.add_argument("--labels-dir", type=Path, metavar="DIR",
                            help="where STEM.labels are (default: beside each capture)")
@@ -62,7 +65,7 @@ def main(argv=None) -> int:
     try:
         if args.command == "label":
             rows = label_captures(args.captures, args.out, client=client, method=args.method,
-                                  format=args.format)
+                                  format=args.format, slice_frames=args.slice_frames)
             columns = LABEL_COLUMNS
         else:
             labels_dir = args.labels_dir

@@ -90,6 +90,13 @@ class CsvWriter:
                       % (*ints, *f, inten, g))
         self._file.write(out.getvalue())
 
+    def append_part(self, part: Path) -> None:
+        """Appends the rows of a file this writer made (its header skipped)."""
+        with open(part, newline="") as f:
+            f.readline()
+            while chunk := f.read(1 << 20):
+                self._file.write(chunk)
+
     def close(self) -> None:
         self._file.close()
 
@@ -107,10 +114,15 @@ class NpzWriter:
         self._rows = 0
 
     def write(self, frame) -> None:
-        cols = frame_columns(frame)
-        for name, values in cols.items():
-            self._raw[name].write(np.ascontiguousarray(values).tobytes())
+        self.write_columns(frame_columns(frame))
+
+    def write_columns(self, cols: dict) -> None:
+        for name, dtype in COLUMNS.items():
+            self._raw[name].write(np.ascontiguousarray(cols[name], dtype=dtype).tobytes())
         self._rows += len(cols["frame"])
+
+    def append_part(self, part: Path) -> None:
+        self.write_columns(read_npz(part))
 
     def close(self) -> None:
         for f in self._raw.values():
@@ -141,8 +153,13 @@ class ParquetWriter:
         self._writer = pq.ParquetWriter(str(path), schema)
 
     def write(self, frame) -> None:
-        cols = frame_columns(frame)
-        self._writer.write_table(self._pa.table(cols))
+        self._writer.write_table(self._pa.table(frame_columns(frame)))
+
+    def append_part(self, part: Path) -> None:
+        import pyarrow.parquet as pq
+        source = pq.ParquetFile(str(part))
+        for group in range(source.num_row_groups):
+            self._writer.write_table(source.read_row_group(group))
 
     def close(self) -> None:
         self._writer.close()
