@@ -39,7 +39,7 @@ class FrameReader {
               ReaderLimits limits)
       : live_(source->is_live()),
         description_(source->describe()),
-        reader_(std::move(source), decoder, assembler),
+        reader_(std::make_unique<CaptureReader>(std::move(source), decoder, assembler)),
         detector_(detector),
         method_(method_name(detector)),
         limits_(limits),
@@ -55,11 +55,11 @@ class FrameReader {
           return r;
         },
         kPooledFrames);
-    reader_.on_position([this](const PositionPacket& p) {
+    reader_->on_position([this](const PositionPacket& p) {
       gps_.has_position = true;
       gps_.last = p;
     });
-    reader_.on_warning([this](const std::string& w) { pending_warnings_.push_back(w); });
+    reader_->on_warning([this](const std::string& w) { pending_warnings_.push_back(w); });
   }
 
   PyFrame next() {
@@ -80,7 +80,7 @@ class FrameReader {
           detector_.detect(*frame, *ground);
           meta->frame = frame->meta;
           meta->gps = gps_;
-          meta->counters = reader_.counters();
+          meta->counters = reader_->counters();
         }
       }
       forward_warnings();
@@ -100,7 +100,22 @@ class FrameReader {
     }
   }
 
-  void stop() { reader_.request_stop(); }
+  void stop() {
+    const std::lock_guard lock(stop_mutex_);
+    if (reader_) reader_->request_stop();
+  }
+
+  /// Stops and releases the source (socket or file) at once; counters stay readable.
+  void close() {
+    stop();
+    py::gil_scoped_release release;
+    const std::lock_guard lock(mutex_);
+    const std::lock_guard stop_lock(stop_mutex_);
+    if (!reader_) return;
+    final_counters_ = reader_->counters();
+    reader_.reset();
+    finished_ = true;
+  }
 
   /// Reads the rest of the input without detection; returns the frames it held.
   std::uint64_t skip_to_end() {
@@ -130,7 +145,7 @@ class FrameReader {
   [[nodiscard]] CaptureCounters counters() {
     py::gil_scoped_release release;
     const std::lock_guard lock(mutex_);
-    return reader_.counters();
+    return counters_locked();
   }
 
   [[nodiscard]] const std::string& description() const { return description_; }
@@ -142,11 +157,17 @@ class FrameReader {
   // Next frame at or after limits_.first_frame (earlier ones are assembled, then dropped).
   ReadStatus read_frame(Frame& frame) {
     while (true) {
-      const ReadStatus status = reader_.next(frame, live_ ? kLiveWaitMs : kReplayWaitMs);
+      if (!reader_) return ReadStatus::stopped;
+      const ReadStatus status = reader_->next(frame, live_ ? kLiveWaitMs : kReplayWaitMs);
       if (status != ReadStatus::frame) return status;
       ++frames_read_;
       if (frame.meta.sequence >= limits_.first_frame) return status;
     }
+  }
+
+  // The reader's counters (or the last ones, once closed); the caller excludes next().
+  [[nodiscard]] CaptureCounters counters_locked() const {
+    return reader_ ? reader_->counters() : final_counters_;
   }
 
   void forward_warnings() {
@@ -169,7 +190,7 @@ class FrameReader {
     }
     if (limits_.idle_timeout_s > 0 && seconds(now - last_frame_) >= limits_.idle_timeout_s) {
       finished_ = true;
-      const auto data = reader_.counters().source.data_packets;
+      const auto data = counters_locked().source.data_packets;
       const std::string message = description_ + ": no frame for " +
                                   std::to_string(limits_.idle_timeout_s) + " s (" +
                                   std::to_string(data) + " data packets received so far)";
@@ -182,7 +203,7 @@ class FrameReader {
   // as for the CLI, not an empty result.
   void check_something_decoded() {
     if (frames_read_ > 0) return;
-    const CaptureCounters c = reader_.counters();
+    const CaptureCounters c = counters_locked();
     std::string why = warnings_.empty() ? "" : ": " + warnings_.back();
     throw std::runtime_error(
         description_ + ": no VLP-16 frame decoded (" + std::to_string(c.source.records) +
@@ -194,7 +215,9 @@ class FrameReader {
   bool live_;
   std::string description_;
   std::mutex mutex_;  // one next() at a time
-  CaptureReader reader_;
+  std::mutex stop_mutex_;  // guards reader_'s lifetime against stop() from other threads
+  std::unique_ptr<CaptureReader> reader_;
+  CaptureCounters final_counters_;
   GroundDetector detector_;
   std::string method_;
   ReaderLimits limits_;
@@ -298,7 +321,10 @@ void bind_reader(py::module_& m) {
            "Reads the rest of the input without ground detection (fast) and returns how many "
            "frames it held; the iteration is then over.")
       .def("__enter__", [](py::object self) { return self; })
-      .def("__exit__", [](FrameReader& r, const py::args&) { r.stop(); })
+      .def("close", &FrameReader::close,
+           "Stops and releases the socket or file at once (also done when the reader is "
+           "garbage-collected, and by `with`).")
+      .def("__exit__", [](FrameReader& r, const py::args&) { r.close(); })
       .def_property_readonly("counters", [](FrameReader& r) { return counters_dict(r.counters()); },
                              "Source, decoder and assembler counters so far.")
       .def_property_readonly("frames", &FrameReader::delivered, "Frames handed out so far.")

@@ -140,3 +140,18 @@ def test_time_slices_in_process_equal_the_whole_capture(captures, tmp_path):
     assert sliced["slices"] == whole["frames"] >= 3
     a, b = batch.read_npz(whole["output"]), batch.read_npz(sliced["output"])
     assert a.keys() == b.keys() and all(np.array_equal(a[k], b[k]) for k in a)
+
+
+def test_command_line_on_a_scheduler_address(captures, client, tmp_path):
+    """--scheduler ADDR: the tasks run on an existing cluster (here the module's)."""
+    good, _ = captures
+    address = client.scheduler.address
+    assert address.startswith("tcp://127.0.0.1:")
+    proc = subprocess.run(
+        [sys.executable, "-m", "vlpground.batch", "label", str(good[0]), str(good[1]),
+         "--out", str(tmp_path), "--format", "npz", "--scheduler", address, "--json"],
+        capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    rows = json.loads(proc.stdout)
+    assert [r["status"] for r in rows] == ["done", "done"]
+    assert sorted(p.name for p in tmp_path.glob("*.npz")) == sorted(f"{p.stem}.npz" for p in good[:2])

@@ -6,7 +6,7 @@
     rows = batch.label_captures(paths, "/shared/labels", client=client, format="npz")
     table = batch.evaluate_captures([(pcap, labels), ...], client=client)
 
-One task per capture. Each task writes its result under ``out_dir``, which must be a path
+One task per capture (or per slice of N frames with ``slice_frames=N``). Each task writes its result under ``out_dir``, which must be a path
 every worker can write (a shared filesystem on a real cluster). A capture that fails is a
 row with ``status == "failed"`` and its ``error``; the others complete. A re-run skips
 captures whose output is complete (``status == "skipped"``). Without a client the current
@@ -16,9 +16,9 @@ process. Command line: ``python3 -m vlpground.batch --help``.
 from __future__ import annotations
 
 import os
-from pathlib import Path
 from collections import deque
 from math import ceil
+from pathlib import Path
 from typing import Callable, Iterable, List, Optional, Sequence, Tuple
 
 import vlpground
@@ -29,7 +29,7 @@ from ._tasks import count_one, done_row, evaluate_one, label_one, label_row, mer
 from ._writers import FORMATS, check_format, parquet_available, read_npz
 
 __all__ = ["label_captures", "evaluate_captures", "format_table", "read_npz", "FORMATS",
-           "parquet_available"]
+           "EVAL_FIELDS", "parquet_available"]
 
 # Figures of each row of evaluate_captures, as `vlpground eval --json`.
 EVAL_FIELDS = ("capture", "method", "radius_m", "frames", "precision", "recall", "f1", "tp",
@@ -137,6 +137,9 @@ def label_captures(paths: Iterable[os.PathLike | str], out_dir: os.PathLike | st
     "failed"), error, frames, returns, ground_returns, seconds (summed over slices).
     """
     check_format(format)
+    for key in ("loop", "first_frame") + (("frames",) if slice_frames is not None else ()):
+        if key in read_options:
+            raise ValueError(f"label_captures does not take {key}= (it labels whole captures)")
     paths = [os.fspath(p) for p in paths]
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
