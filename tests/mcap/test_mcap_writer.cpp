@@ -5,7 +5,7 @@
 #include <map>
 #include <string>
 
-#include "../evaluation/allocation_counter.hpp"
+#include "allocation_counter.hpp"
 #include "mini_reader.hpp"
 #include "vlpground/mcap/writer.hpp"
 

@@ -27,8 +27,8 @@ function replay(file, extra = []) {
 
 function checkDecoded(topic, msg) {
   if (topic === "/vlpground/points") {
-    assert.ok(msg.pointStride > 0);
-    assert.ok(msg.data.length > 0 && msg.data.length % msg.pointStride === 0, "whole points");
+    assert.ok(msg.point_stride > 0);
+    assert.ok(msg.data.length > 0 && msg.data.length % msg.point_stride === 0, "whole points");
     const names = msg.fields.map((f) => f.name);
     for (const n of ["x", "y", "z", "intensity", "ring", "label"]) assert.ok(names.includes(n), n);
   } else if (topic === "/vlpground/ground") {

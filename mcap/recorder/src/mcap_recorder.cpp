@@ -60,7 +60,9 @@ void McapRecorder::record(const LabelledFrame& frame) {
 
 void McapRecorder::record_status(const PipelineStats& stats) {
   const std::lock_guard lock(impl_->mutex);
-  if (!impl_->writer.is_open()) return;
+  // Before the first frame there is no capture time to stamp it with (a wall-clock stamp
+  // would stretch a replay's timeline over years).
+  if (!impl_->writer.is_open() || impl_->frames == 0) return;
   impl_->encoder.encode_status(stats, impl_->last_frame_time_ns, impl_->sink);
   impl_->writer.flush();
 }
