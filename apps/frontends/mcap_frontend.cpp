@@ -1,6 +1,7 @@
 #include "frontends/mcap_frontend.hpp"
 
 #include <map>
+#include <mutex>
 #include <stdexcept>
 
 #include "vlpground/viz/mcap_recorder.hpp"
@@ -12,9 +13,18 @@ class McapSink : public FrameSink {
  public:
   McapSink(const std::string& path, viz::McapRecorderConfig config)
       : path_(path), recorder_(open(path, std::move(config))) {}
-  void write(const LabelledFrame& f) override { guarded([&] { recorder_->record(f); }); }
+  void write(const LabelledFrame& f) override {
+    guarded([&] { recorder_->record(f); });
+  }
+  // From the runner's thread, which does not expect errors here: the first one is kept and
+  // reported by the next write() or finish().
   void on_stats(const PipelineStats& stats) override {
-    guarded([&] { recorder_->record_status(stats); });
+    try {
+      recorder_->record_status(stats);
+    } catch (const std::exception& e) {
+      const std::lock_guard lock(error_mutex_);
+      if (status_error_.empty()) status_error_ = e.what();
+    }
   }
   void finish() override { guarded([&] { recorder_->close(); }); }
 
@@ -24,12 +34,16 @@ class McapSink : public FrameSink {
     try {
       return std::make_unique<viz::McapRecorder>(path, std::move(config));
     } catch (const std::exception& e) {
-      throw std::runtime_error(std::string("--mcap ") + path + ": " + e.what());
+      throw std::runtime_error("--mcap " + path + ": " + e.what());
     }
   }
   // One-line errors naming the option and the file (frame_sink.hpp).
   template <typename F>
   void guarded(F&& f) {
+    {
+      const std::lock_guard lock(error_mutex_);
+      if (!status_error_.empty()) throw std::runtime_error("--mcap " + path_ + ": " + status_error_);
+    }
     try {
       f();
     } catch (const std::exception& e) {
@@ -39,6 +53,8 @@ class McapSink : public FrameSink {
 
   std::string path_;
   std::unique_ptr<viz::McapRecorder> recorder_;
+  std::mutex error_mutex_;
+  std::string status_error_;
 };
 
 }  // namespace
