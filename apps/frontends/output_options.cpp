@@ -8,6 +8,7 @@ void add_output_options(CLI::App& cmd, OutputOptions& o) {
   add_csv_options(cmd, o.csv);
   add_pcd_options(cmd, o.pcd);
   add_png_options(cmd, o.png);
+  add_mcap_options(cmd, o.mcap);
 }
 
 namespace {
@@ -54,6 +55,7 @@ std::vector<std::unique_ptr<FrameSink>> make_sinks(const OutputOptions& o,
   add_sink(sinks, "--csv", o.csv.path, [&] { return make_csv_sink(o.csv, config); });
   add_sink(sinks, "--pcd", o.pcd.dir, [&] { return make_pcd_sink(o.pcd, config); });
   add_sink(sinks, "--png", o.png.dir, [&] { return make_png_sink(o.png, config); });
+  add_sink(sinks, "--mcap", o.mcap.path, [&] { return make_mcap_sink(o.mcap, config); });
   return sinks;
 }
 

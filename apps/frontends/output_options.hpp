@@ -8,6 +8,7 @@
 
 #include "frontends/csv_frontend.hpp"
 #include "frontends/frame_sink.hpp"
+#include "frontends/mcap_frontend.hpp"
 #include "frontends/pcd_frontend.hpp"
 #include "frontends/png_frontend.hpp"
 
@@ -17,6 +18,7 @@ struct OutputOptions {
   CsvOptions csv;
   PcdOptions pcd;
   PngOptions png;
+  McapOptions mcap;
 };
 
 void add_output_options(CLI::App& cmd, OutputOptions& o);
