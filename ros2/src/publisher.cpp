@@ -3,10 +3,13 @@
 // never waits for DDS.
 #include "vlpground/ros2/publisher.hpp"
 
+#include <pthread.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <condition_variable>
+#include <csignal>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -23,6 +26,25 @@ constexpr int kNone = -1;
 constexpr outputs::CloudKind kKinds[3] = {outputs::CloudKind::organized,
                                           outputs::CloudKind::ground_only,
                                           outputs::CloudKind::obstacle_only};
+
+// Threads inherit their creator's signal mask: while this guard lives, the threads created
+// (Cyclone DDS's and the publisher thread) get every asynchronous signal blocked, so SIGINT
+// and SIGTERM reach the application's own handling instead of killing it from a DDS thread.
+class BlockAsyncSignals {
+ public:
+  BlockAsyncSignals() {
+    sigset_t all;
+    sigfillset(&all);
+    for (const int sync : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGTRAP, SIGABRT}) sigdelset(&all, sync);
+    pthread_sigmask(SIG_BLOCK, &all, &old_);
+  }
+  ~BlockAsyncSignals() { pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
+  BlockAsyncSignals(const BlockAsyncSignals&) = delete;
+  BlockAsyncSignals& operator=(const BlockAsyncSignals&) = delete;
+
+ private:
+  sigset_t old_{};
+};
 
 struct Slot {
   std::array<std::vector<std::uint8_t>, 3> bytes;  // per topic (unused topics stay empty)
@@ -110,6 +132,7 @@ struct Ros2Publisher::Impl {
 
 Ros2Publisher::Ros2Publisher(const Ros2Config& config) {
   config.validate();
+  const BlockAsyncSignals in_created_threads;
   impl_ = std::make_unique<Impl>(config);
 }
 

@@ -11,6 +11,9 @@
 // The DDS network configuration is Cyclone DDS's own: the CYCLONEDDS_URI environment
 // variable (interfaces, multicast, peers); without it Cyclone's defaults apply.
 //
+// The threads it starts (Cyclone DDS's and its own) block asynchronous signals (SIGINT,
+// SIGTERM, ...), whatever the creating thread's mask.
+//
 // Thread-safety: publish() from one thread at a time; stats(), wait_for_subscribers() and
 // finish() from any thread.
 #pragma once
