@@ -100,6 +100,7 @@ struct Ros2Publisher::Impl {
       if (ready == kNone) return;  // stopping with nothing left
       writing = ready;
       ready = kNone;
+      idle.notify_all();  // a publish() waiting under WhenBusy::wait may go on
       Slot& slot = slots[static_cast<std::size_t>(writing)];
       lock.unlock();
       bool ok = true;
@@ -145,9 +146,12 @@ void Ros2Publisher::publish(const Frame& frame, const GroundResult& ground) {
   Impl& m = *impl_;
   int slot;
   {
-    std::lock_guard lock(m.mutex);
+    std::unique_lock lock(m.mutex);
     if (m.finished) throw std::logic_error("Ros2Publisher::publish after finish()");
     ++m.counts.frames_offered;
+    if (m.config.when_busy == WhenBusy::wait) {
+      m.idle.wait(lock, [&m] { return m.ready == kNone; });
+    }
     slot = m.free_slot();
   }
   // The thread touches only the `writing` and `ready` slots: this one is ours.

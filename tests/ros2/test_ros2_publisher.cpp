@@ -208,3 +208,24 @@ TEST_CASE("The publisher's threads (DDS's included) leave SIGINT and SIGTERM to 
   }
   CHECK(new_threads >= 2);  // the publisher thread and Cyclone's own
 }
+
+TEST_CASE("WhenBusy::wait loses no frame to a reliable subscriber") {
+  auto config = config_for("/vlpground/every_frame");
+  config.when_busy = ros2::WhenBusy::wait;
+  ros2::Ros2Publisher publisher(config);
+  CloudReader reader(config.domain_id, "rt/vlpground/every_frame", ReaderQos::reliable);
+  REQUIRE(publisher.wait_for_subscribers(1, kTimeoutMs));
+  constexpr int kFrames = 30;
+  for (int k = 0; k < kFrames; ++k) {
+    test::LabelledTestFrame in(40 + k, ReturnMode::strongest, k * 100'000'000LL);
+    publisher.publish(in.frame, in.ground);
+  }
+  REQUIRE(publisher.finish(kTimeoutMs));
+  CHECK(publisher.stats().frames_skipped == 0);
+  CHECK(publisher.stats().frames_published == kFrames);
+  for (int k = 0; k < kFrames; ++k) {
+    ReceivedCloud cloud;
+    REQUIRE(reader.take(cloud, kTimeoutMs));
+    CHECK(cloud.width == static_cast<std::uint32_t>(40 + k));  // in order, none missing
+  }
+}
