@@ -9,22 +9,51 @@
 namespace vlpground::cli {
 namespace {
 
-std::vector<OptionSpec> replay_specs() {
-  std::vector<OptionSpec> specs = {
-      {"--rate", true, "R  replay speed: 0 = as fast as possible (default), 1 = real time"},
-      {"--loop", false, "replay the file again and again (until Ctrl-C or --frames)"},
-      {"--port", true, "N  UDP data port in the capture (default 2368)"},
-      {"--position-port", true, "N  UDP position port in the capture (default 8308)"},
-      {"--sensor-ip", true, "IP  only packets from this sensor address"},
-  };
-  for (const auto* group : {&output_option_specs(), &detector_option_specs()}) {
-    specs.insert(specs.end(), group->begin(), group->end());
+class ReplayCommand : public Command {
+ public:
+  explicit ReplayCommand(CLI::App& app) {
+    request_.command = "replay";
+    PcapSourceConfig& pcap = pcap_;
+    CLI::App* cmd = app.add_subcommand(
+        "replay", "decode a capture (pcap or pcapng) and label ground in every rotation");
+    cmd->add_option("capture", pcap.path, "the capture")->type_name("FILE.pcap")->required();
+    cmd->add_option("--rate", pcap.rate, "replay speed: 0 = as fast as possible, 1 = real time")
+        ->check(CLI::Range(0.0, 1000.0));
+    cmd->add_flag("--loop", pcap.loop,
+                  "replay the file again and again (until Ctrl-C or --frames)");
+    cmd->add_option("--port", pcap.data_port, "UDP data port in the capture")
+        ->check(CLI::Range(1, 65535));
+    cmd->add_option("--position-port", pcap.position_port, "UDP position port in the capture")
+        ->check(CLI::Range(1, 65535));
+    cmd->add_option("--sensor-ip", pcap.sensor_address,
+                    "only packets from this sensor address (empty: any)")
+        ->type_name("IP");
+    add_run_options(*cmd, request_);
   }
-  return specs;
-}
+
+  int run() override {
+    request_.config.pcap = pcap_;
+    const CaptureProbe probe = probe_capture(pcap_, 400);
+    if (!probe.error.empty()) {
+      std::fprintf(stderr, "vlpground replay: %s\n", probe.error.c_str());
+      return kExitFailure;
+    }
+    if (!probe.is_vlp16()) {
+      std::fprintf(stderr, "vlpground replay: %s: no VLP-16 packets (%s)\n", pcap_.path.c_str(),
+                   probe.verdict().c_str());
+      return kExitFailure;
+    }
+    return run_pipeline(std::move(request_));
+  }
+
+ private:
+  PcapSourceConfig pcap_;
+  RunRequest request_;
+};
 
 }  // namespace
 
+<<<<<<< HEAD
 int run_replay(int argc, char** argv) {
   const auto specs = replay_specs();
   try {
@@ -70,6 +99,10 @@ int run_replay(int argc, char** argv) {
     std::fprintf(stderr, "vlpground replay: %s\n", e.what());
     return 1;
   }
+=======
+std::unique_ptr<Command> add_replay_command(CLI::App& app) {
+  return std::make_unique<ReplayCommand>(app);
+>>>>>>> main
 }
 
 }  // namespace vlpground::cli
