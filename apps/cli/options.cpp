@@ -2,7 +2,11 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cerrno>
 #include <charconv>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -53,9 +57,11 @@ Extrinsics parse_extrinsics(const std::vector<std::string>& values) {
 void add_detector_options(CLI::App& cmd, PipelineConfig& config) {
   const char* group = "Detector";
   DetectorConfig& d = config.detector;
-  // DetectorConfig::method is a string today; as an enum it becomes an add_choice_option.
-  cmd.add_option("--method", d.method, "ground method: tangent (the paper's), ransac, lpr")
-      ->check(CLI::IsMember({"tangent", "ransac", "lpr"}))
+  add_choice_option<GroundMethod>(cmd, "--method", d.method,
+                                  {{"tangent", GroundMethod::tangent},
+                                   {"ransac", GroundMethod::ransac},
+                                   {"lpr", GroundMethod::lpr}},
+                                  "ground method: tangent (the paper's), ransac, lpr")
       ->group(group);
   cmd.add_option("--calibration", config.decoder.calibration_file,
                  "ROS-velodyne calibration YAML (empty: built-in angles)")
@@ -92,7 +98,16 @@ void add_detector_options(CLI::App& cmd, PipelineConfig& config) {
 }
 
 void add_frames_option(CLI::App& cmd, std::uint64_t& frames) {
-  cmd.add_option("--frames", frames, "stop after N frames (0 = all)")->type_name("N");
+  cmd.add_option_function<std::int64_t>(
+         "--frames", [&frames](std::int64_t n) { frames = static_cast<std::uint64_t>(n); },
+         "stop after N frames (0 = all)")
+      ->type_name("N")
+      ->check(CLI::Validator(
+          [](const std::string& v) {
+            return v.find('-') == std::string::npos ? std::string() : "must be >= 0, got " + v;
+          },
+          ""))
+      ->default_str(std::to_string(frames));
 }
 
 void add_run_limit_options(CLI::App& cmd, PipelineConfig& config) {
@@ -102,64 +117,20 @@ void add_run_limit_options(CLI::App& cmd, PipelineConfig& config) {
       ->check(CLI::Range(1, 256));
 }
 
-<<<<<<< HEAD
-const std::vector<OptionSpec>& output_option_specs() {
-  static const std::vector<OptionSpec> specs = {
-      {"--frames", true, "N  stop after N frames (default: all)"},
-      {"--queue", true, "N  frames pending between reader and detector (default 4)"},
-      {"--csv", true, "FILE  one row per return (frame,laser_id,ring,return,timestamp_us,...)"},
-      {"--pcd", true, "DIR  one binary PCD per frame (x y z intensity ring time label)"},
-      {"--png", true, "DIR  one picture per frame: bird's-eye view over the range image"},
-      {"--json", false, "print a machine-readable JSON summary instead of the table"},
-  };
-  return specs;
-}
-
-void apply_common_options(const Args& args, PipelineConfig& config) {
-  const std::string method = args.text("--method", "tangent");
-  const auto parsed = parse_ground_method(method);
-  if (!parsed) throw UsageError("--method must be tangent, ransac or lpr, got '" + method + "'");
-  config.detector.method = *parsed;
-  config.detector.seed = static_cast<std::uint64_t>(
-      args.integer("--seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
-  config.detector.min_sensor_height_m =
-      args.number("--min-sensor-height", config.detector.min_sensor_height_m, 0.0,
-                  config.detector.max_sensor_height_m - 0.01);
-  config.decoder.calibration_file = args.text("--calibration", "");
-  if (args.has("--model")) {
-    const std::string m = args.text("--model", "");
-    if (m == "vlp16") {
-      config.decoder.force_model = Model::vlp16;
-    } else if (m == "hires") {
-      config.decoder.force_model = Model::hires;
-    } else {
-      throw UsageError("--model must be vlp16 or hires, got '" + m + "'");
-    }
-  }
-  config.assembler.cut_angle_deg = args.number("--cut-angle", 0.0, 0.0, 359.999);
-  if (args.has("--extrinsics")) {
-    const auto v = parse_list("--extrinsics", args.text("--extrinsics", ""));
-    if (v.size() != 6) throw UsageError("--extrinsics expects x,y,z,roll,pitch,yaw (6 numbers)");
-    config.detector.extrinsics = Extrinsics{v[0], v[1], v[2], v[3], v[4], v[5]};
-  }
-  config.queue_frames = static_cast<int>(args.integer("--queue", 4, 1, 256));
-  config.max_frames = static_cast<std::uint64_t>(
-      args.integer("--frames", 0, 0, std::numeric_limits<std::int64_t>::max()));
-}
-
-OutputOptions output_options(const Args& args) {
-  OutputOptions o;
-  o.csv_path = args.text("--csv", "");
-  o.pcd_dir = args.text("--pcd", "");
-  o.png_dir = args.text("--png", "");
-  o.json = args.has("--json");
-  o.log_level = args.text("--log-level", "warn");
-  return o;
-=======
 void add_log_level_option(CLI::App& cmd, std::string& level) {
   cmd.add_option("--log-level", level, "log verbosity (logs go to stderr)")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
->>>>>>> main
+}
+
+void check_input_file(const std::string& role, const std::string& path) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  const std::string where = role + " " + path + ": ";
+  if (!std::filesystem::exists(status)) throw std::runtime_error(where + "no such file");
+  if (std::filesystem::is_directory(status)) throw std::runtime_error(where + "is a directory");
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) throw std::runtime_error(where + std::strerror(errno));
+  std::fclose(f);
 }
 
 void apply_log_level(const std::string& level) {

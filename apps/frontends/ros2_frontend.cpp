@@ -122,7 +122,8 @@ std::unique_ptr<FrameSink> make_ros2_sink(const Ros2Options& o, const PipelineCo
   // Like the pipeline: a replay that blocks its reader loses no frame here either; a live
   // sensor never waits for a subscriber.
   const bool blocking = config.backpressure == Backpressure::block ||
-                        (config.backpressure == Backpressure::automatic && config.pcap.has_value());
+                        (config.backpressure == Backpressure::automatic &&
+                         std::holds_alternative<PcapSourceConfig>(config.source));
   c.when_busy = blocking ? ros2::WhenBusy::wait : ros2::WhenBusy::replace_waiting;
   auto sink = std::make_unique<Ros2Sink>(c);
   if (o.wait_subscribers > 0) sink->wait_for(o.wait_subscribers, o.wait_timeout_s);

@@ -138,8 +138,7 @@ void MultiPipelineConfig::validate() const {
   for (std::size_t i = 0; i < sensors.size(); ++i) {
     try {
       PipelineConfig p = sensor_pipeline_config(*this, i);
-      p.pcap.reset();
-      p.udp = {};  // the router receives; the per-sensor UDP settings are unused
+      p.source = PushSourceConfig{};  // the router receives; per-sensor sources are unused
       p.validate();
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("sensor '" + sensors[i].name + "': " + e.what());
