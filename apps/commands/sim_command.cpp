@@ -5,6 +5,7 @@
 #include <csignal>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
@@ -15,6 +16,7 @@
 #include "vlpground/sim/capture_writer.hpp"
 #include "vlpground/sim/simulator.hpp"
 #include "vlpground/sim/udp_emitter.hpp"
+#include "writers/output_path.hpp"
 
 namespace vlpground::cli {
 namespace {
@@ -86,7 +88,9 @@ class SimCommand : public Command {
                                   "return mode");
     add_choice_option<Model>(*cmd, "--model", c.model,
                              {{"vlp16", Model::vlp16}, {"hires", Model::hires}}, "sensor model");
-    cmd->add_option("--out", out_, "write STEM.pcap, STEM.labels, STEM.json")
+    cmd->add_option("--out", out_,
+                    "write STEM.pcap, STEM.labels, STEM.json (an existing directory: "
+                    "DIR/SCENE.*)")
         ->type_name("STEM")
         ->default_str("SCENE");
     cmd->add_option_function<double>(
@@ -120,6 +124,10 @@ class SimCommand : public Command {
 
   int run() override {
     if (out_.empty()) out_ = scene_name_;
+    // One rule for output paths: an existing directory gets DIR/SCENE.*, missing parent
+    // directories are created.
+    if (std::filesystem::is_directory(out_))
+      out_ = (std::filesystem::path(out_) / scene_name_).string();
     if (udp_) {
       udp_->position_port = position_port_;
       udp_->rate = rate_;
@@ -134,6 +142,7 @@ class SimCommand : public Command {
     const auto started = std::chrono::steady_clock::now();
     const sim::Simulator simulator(options_);
     if (udp_) return stream(simulator, *udp_);
+    create_parent_directories(out_);
     const auto summary = sim::write_capture(simulator, out_);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
