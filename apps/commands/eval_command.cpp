@@ -37,6 +37,11 @@ class EvalCommand : public Command {
   int run() override {
     const std::filesystem::path pcap_path = pcap_path_;
     apply_log_level(log_level_);
+    check_input_file("capture", pcap_path_);
+    check_input_file("--labels", labels_path_);
+    if (!config_.decoder.calibration_file.empty()) {
+      check_input_file("--calibration", config_.decoder.calibration_file);
+    }
     PipelineConfig& config = config_;
     const double radius = radius_;
     PcapSourceConfig pcap;

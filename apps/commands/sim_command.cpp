@@ -4,6 +4,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <map>
@@ -53,6 +54,21 @@ int stream(const sim::Simulator& simulator, const sim::UdpStreamConfig& udp) {
   return stats.send_errors == 0 ? kExitOk : kExitFailure;
 }
 
+// "sim config: sensor_height_m must be ..." -> "--height-m must be ...".
+std::string in_option_names(std::string message) {
+  static const std::pair<const char*, const char*> kNames[] = {
+      {"sim config: frames", "--frames"},
+      {"sim config: rpm", "--rpm"},
+      {"sim config: sensor_height_m", "--height-m"},
+      {"sim config: speed_mps", "--speed-mps"},
+      {"sim config: mount roll/pitch", "--roll-deg and --pitch-deg"},
+  };
+  for (const auto& [field, option] : kNames) {
+    if (message.rfind(field, 0) == 0) return option + message.substr(std::strlen(field));
+  }
+  return message;
+}
+
 class SimCommand : public Command {
  public:
   explicit SimCommand(CLI::App& app) {
@@ -79,7 +95,7 @@ class SimCommand : public Command {
         ->required();
     cmd->add_option("--seed", c.seed, "scene and noise seed");
     cmd->add_option("--frames", c.frames, "complete rotations to simulate")
-        ->check(CLI::Range(1, 100000));
+        ->check(CLI::Range(1, 10000));
     cmd->add_option("--rpm", c.rpm, "motor speed")->check(CLI::Range(300.0, 1200.0));
     add_choice_option<ReturnMode>(*cmd, "--mode", c.mode,
                                   {{"strongest", ReturnMode::strongest},
@@ -137,7 +153,7 @@ class SimCommand : public Command {
       options_.validate();
       if (udp_) udp_->validate();
     } catch (const std::invalid_argument& e) {
-      throw UsageError(e.what());
+      throw UsageError(in_option_names(e.what()));
     }
     const auto started = std::chrono::steady_clock::now();
     const sim::Simulator simulator(options_);

@@ -108,3 +108,48 @@ TEST_CASE("15.7 one rule for output paths") {
     CHECK(std::filesystem::exists(dir / "x" / "y" / "run1.pcap"));
   }
 }
+
+TEST_CASE("15.8 errors in the user's words; exit 2 for usage errors, 1 for runtime failures") {
+  const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
+  VLPGROUND_REQUIRE_SHARED(pcap);
+  const auto dir = test::temp_dir("cli_words");
+  const auto expect = [](const std::vector<std::string>& args, int code, const std::string& text) {
+    const auto r = run_cli(args);
+    INFO(r.err);
+    CHECK(r.code == code);
+    CHECK(one_line(r.err));
+    CHECK(r.err.find(text) != std::string::npos);
+  };
+  expect({kCli, "sim", "flat", "--frames", "0", "--out", (dir / "s").string()}, 2, "--frames");
+  expect({kCli, "sim", "flat", "--height-m", "-3", "--out", (dir / "s").string()}, 2,
+         "--height-m must be");
+  expect({kCli, "replay", pcap->string(), "--frames", "-1"}, 2, "--frames: must be >= 0");
+  expect({kCli, "replay", pcap->string(), "--calibration", dir.string()}, 1,
+         "--calibration " + dir.string() + ": is a directory");
+  expect({kCli, "eval", pcap->string(), "--labels", dir.string()}, 1,
+         "--labels " + dir.string() + ": is a directory");
+  expect({kCli, "replay", (dir / "missing.pcap").string()}, 1, "no such file");
+  expect({kCli, "replay", pcap->string(), "--extrinsics", "1,2"}, 2, "--extrinsics");
+  // The extrinsics as people type them, with spaces.
+  const auto spaced = run_cli(
+      {kCli, "replay", pcap->string(), "--frames", "1", "--extrinsics", "0, 0, 1.8, 0, 0, 0"});
+  CHECK(spaced.code == 0);
+  SECTION("a port in use is named by its role") {
+    const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    REQUIRE(bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0);
+    socklen_t len = sizeof a;
+    getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+    const std::string busy = std::to_string(ntohs(a.sin_port));
+    const std::string free_port = std::to_string(test::free_udp_port());
+    expect({kCli, "live", "--bind", "127.0.0.1", "--port", free_port, "--position-port", busy},
+           1, "position port " + busy + " on 127.0.0.1 is in use; use --position-port");
+    expect({kCli, "live", "--bind", "127.0.0.1", "--port", busy, "--position-port", "0"}, 1,
+           "data port " + busy + " on 127.0.0.1 is in use");
+    close(fd);
+  }
+  // Both codes are documented in --help.
+  CHECK(run_cli({kCli, "--help"}).out.find("2 usage error") != std::string::npos);
+}
