@@ -153,3 +153,29 @@ TEST_CASE("15.8 errors in the user's words; exit 2 for usage errors, 1 for runti
   // Both codes are documented in --help.
   CHECK(run_cli({kCli, "--help"}).out.find("2 usage error") != std::string::npos);
 }
+
+TEST_CASE("15.2 eval refuses labels that do not belong to the capture") {
+  const auto hills = test::project_pcap("hills_demo.pcap");
+  const auto expect_refused = [&](const std::filesystem::path& pcap, const std::string& labels,
+                                  const std::string& text) {
+    const auto r = run_cli({kCli, "eval", pcap.string(), "--labels", labels});
+    INFO(r.err);
+    CHECK(r.code == 1);
+    CHECK(one_line(r.err));
+    CHECK(r.err.find(text) != std::string::npos);
+    CHECK(r.out.find("F1") == std::string::npos);
+  };
+  expect_refused(hills, test::project_pcap("urban_demo.labels").string(),
+                 "labels cover 283 packets (108672 bytes), the capture has 135");
+  expect_refused(hills, "/dev/null", "labels cover 0 packets");
+  // The simulator's JSON beside the capture must describe it too.
+  const auto dir = test::temp_dir("cli_labels");
+  std::filesystem::copy_file(hills, dir / "h.pcap");
+  std::ofstream(dir / "h.json") << R"({"packets": 999, "mount_roll_pitch_deg": [0, 0]})";
+  expect_refused(dir / "h.pcap", test::project_pcap("hills_demo.labels").string(),
+                 "describes 999 packets, the capture has 135");
+  // Its own labels still score.
+  const auto ok = run_cli({kCli, "eval", hills.string(), "--labels",
+                           test::project_pcap("hills_demo.labels").string()});
+  CHECK(ok.code == 0);
+}
