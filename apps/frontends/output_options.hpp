@@ -8,8 +8,10 @@
 
 #include "frontends/csv_frontend.hpp"
 #include "frontends/frame_sink.hpp"
+#include "frontends/mcap_frontend.hpp"
 #include "frontends/pcd_frontend.hpp"
 #include "frontends/png_frontend.hpp"
+#include "frontends/ros2_frontend.hpp"
 
 namespace vlpground::cli {
 
@@ -17,6 +19,8 @@ struct OutputOptions {
   CsvOptions csv;
   PcdOptions pcd;
   PngOptions png;
+  McapOptions mcap;
+  Ros2Options ros2;
 };
 
 void add_output_options(CLI::App& cmd, OutputOptions& o);
