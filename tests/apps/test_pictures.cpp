@@ -40,8 +40,7 @@ struct Image {
     for (int y = y0; y < y1; ++y) {
       for (int x = x0; x < x1; ++x) {
         const std::size_t i = (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
-                               static_cast<std::size_t>(x)) *
-                              3;
+                               static_cast<std::size_t>(x)) * 3;
         n += rgb[i] == colour[0] && rgb[i + 1] == colour[1] && rgb[i + 2] == colour[2];
       }
     }
@@ -65,8 +64,8 @@ void ring_frame(Frame& frame, GroundResult& ground, std::uint64_t sequence) {
       frame.layer[0].valid[cell] = 1;
       frame.layer[0].x_m[cell] = static_cast<float>(10 * std::cos(a));
       frame.layer[0].y_m[cell] = static_cast<float>(10 * std::sin(a));
-      ground.label[0][cell] =
-          static_cast<std::uint8_t>(ring < 8 ? GroundLabel::ground : GroundLabel::obstacle);
+      ground.label[0][cell] = static_cast<std::uint8_t>(ring < 8 ? GroundLabel::ground
+                                                                 : GroundLabel::obstacle);
     }
   }
   ground.columns = frame.columns();
@@ -94,9 +93,10 @@ TEST_CASE("canvas: text lands inside its measured box and differs by content", "
   CHECK(differing > 3);
 }
 
-TEST_CASE("png writer: header, legend, scale bar per frame; one overview per run", "[pictures]") {
-  const auto dir =
-      std::filesystem::temp_directory_path() / ("vlpground_pictures_" + std::to_string(::getpid()));
+TEST_CASE("png writer: header, legend, scale bar per frame, and one overview per run",
+          "[pictures]") {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("vlpground_pictures_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   Frame frame(512);
   GroundResult ground;
@@ -112,10 +112,10 @@ TEST_CASE("png writer: header, legend, scale bar per frame; one overview per run
   }
   const Image picture((dir / "frame_000002.png").string());
   CHECK(picture.width == PngWriter::kWidth);
-  CHECK(picture.height == PngWriter::kHeaderPixels + PngWriter::kWidth + PngWriter::kCaptionPixels +
-                              kLasers * PngWriter::kRowPixels);
-  const int header_text =
-      picture.count(0, 0, picture.width, PngWriter::kHeaderPixels, Rgb{235, 235, 235});
+  CHECK(picture.height == PngWriter::kHeaderPixels + PngWriter::kWidth +
+                              PngWriter::kCaptionPixels + kLasers * PngWriter::kRowPixels);
+  const int header_text = picture.count(0, 0, picture.width, PngWriter::kHeaderPixels,
+                                        Rgb{235, 235, 235});
   CHECK(header_text > 200);
   const int view_top = PngWriter::kHeaderPixels;
   // The legend's ground swatch (top right) and the scale bar (bottom left) are drawn.
@@ -129,7 +129,7 @@ TEST_CASE("png writer: header, legend, scale bar per frame; one overview per run
 
   const Image overview((dir / "overview.png").string());
   CHECK(overview.width == 800);
-  CHECK(overview.count(0, 60, 800, 250, Rgb{60, 220, 90}) > 20);    // ground share plot
+  CHECK(overview.count(0, 60, 800, 250, Rgb{60, 220, 90}) > 20);   // ground share plot
   CHECK(overview.count(0, 260, 800, 460, Rgb{250, 190, 60}) > 20);  // detect time plot
 
   // The sensor name is part of the header: without it the header has fewer text pixels.
