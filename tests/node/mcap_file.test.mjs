@@ -55,14 +55,19 @@ test("replay --mcap: the indexed reader opens the file via its summary; every me
     const decode = decoders(reader.schemasById, reader.channelsById);
     const counts = new Map();
     const last = new Map();
+    let lastStatus;
     for await (const m of reader.readMessages()) {
       const topic = reader.channelsById.get(m.channelId).topic;
-      checkDecoded(topic, decode.get(m.channelId)(m.data));
+      const msg = decode.get(m.channelId)(m.data);
+      checkDecoded(topic, msg);
+      if (topic === "/vlpground/status") lastStatus = msg;
       counts.set(topic, (counts.get(topic) ?? 0) + 1);
       assert.ok(m.logTime >= (last.get(topic) ?? 0n), "log times in order per topic");
       last.set(topic, m.logTime);
     }
     for (const t of frameTopics) assert.equal(counts.get(t), frames, `${t}: one message per frame`);
+    assert.ok(counts.get("/vlpground/status") >= 1, "the final status at least");
+    assert.equal(lastStatus.frames.delivered, frames, "the last status has the final counters");
     const stats = reader.statistics;
     let total = 0;
     for (const t of topics) {
