@@ -9,6 +9,7 @@ void add_output_options(CLI::App& cmd, OutputOptions& o) {
   add_pcd_options(cmd, o.pcd);
   add_png_options(cmd, o.png);
   add_mcap_options(cmd, o.mcap);
+  add_ros2_options(cmd, o.ros2);
 }
 
 namespace {
@@ -56,6 +57,8 @@ std::vector<std::unique_ptr<FrameSink>> make_sinks(const OutputOptions& o,
   add_sink(sinks, "--pcd", o.pcd.dir, [&] { return make_pcd_sink(o.pcd, config); });
   add_sink(sinks, "--png", o.png.dir, [&] { return make_png_sink(o.png, config); });
   add_sink(sinks, "--mcap", o.mcap.path, [&] { return make_mcap_sink(o.mcap, config); });
+  add_sink(sinks, "--ros2", describe_ros2_destination(o.ros2),
+           [&] { return make_ros2_sink(o.ros2, config); });
   return sinks;
 }
 

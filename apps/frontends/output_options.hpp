@@ -11,6 +11,7 @@
 #include "frontends/mcap_frontend.hpp"
 #include "frontends/pcd_frontend.hpp"
 #include "frontends/png_frontend.hpp"
+#include "frontends/ros2_frontend.hpp"
 
 namespace vlpground::cli {
 
@@ -19,6 +20,7 @@ struct OutputOptions {
   PcdOptions pcd;
   PngOptions png;
   McapOptions mcap;
+  Ros2Options ros2;
 };
 
 void add_output_options(CLI::App& cmd, OutputOptions& o);

@@ -39,7 +39,7 @@ __all__ = [
     "FrameMeta", "FrameReader", "GpsState", "GroundDetector", "GroundSegment", "Plane",
     "read_pcap", "count_frames", "live", "evaluate", "simulate", "sim_extrinsics",
 ]
-__version__ = "0.1.0"
+__version__: str = _core.__version__  # the CMake project version
 
 PathLike = Union[str, "os.PathLike[str]"]
 ExtrinsicsLike = Union[Extrinsics, Sequence[float], Mapping[str, float], None]
