@@ -164,6 +164,16 @@ def test_detect_again_with_other_settings():
     assert ransac.meta.sequence == frame.meta.sequence
 
 
+def test_method_keyword_and_detector_config():
+    path = PCAPS / "urban_demo.pcap"
+    ransac = vlpground.DetectorConfig(method="ransac", min_sensor_height_m=0.3)
+    assert next(iter(vlpground.read_pcap(path, detector=ransac))).method == "ransac"
+    assert next(iter(vlpground.read_pcap(path, detector=ransac, method="lpr"))).method == "lpr"
+    assert next(iter(vlpground.read_pcap(path, method="ransac"))).method == "ransac"
+    assert next(iter(vlpground.read_pcap(path))).method == "tangent"
+    assert vlpground.evaluate(path, path.with_suffix(".labels"), detector=ransac)["method"] == "ransac"
+
+
 def test_errors_are_clear(tmp_path):
     with pytest.raises(RuntimeError, match="missing.pcap"):
         vlpground.read_pcap(tmp_path / "missing.pcap")
@@ -190,6 +200,12 @@ def test_evaluate_equals_cli_eval(cli):
             continue
         assert got[key] == pytest.approx(value, rel=1e-12, abs=0), key
     assert got["f1"] > 0.99
+
+
+def test_evaluate_refuses_labels_of_another_capture():
+    """As `vlpground eval`: labels (or a simulator JSON) of another capture are an error."""
+    with pytest.raises(RuntimeError, match="labels cover 283 packets .*, the capture has 135"):
+        vlpground.evaluate(PCAPS / "hills_demo.pcap", PCAPS / "urban_demo.labels")
 
 
 def test_simulate_writes_a_readable_capture(tmp_path):
