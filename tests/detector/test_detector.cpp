@@ -218,7 +218,7 @@ TEST_CASE("extrinsics are applied before fitting", "[detector]") {
   CHECK(tilted);
 }
 
-TEST_CASE("GroundMethod names round-trip; anything else is refused") {
+TEST_CASE("GroundMethod names round-trip, anything else is refused") {
   for (GroundMethod m : {GroundMethod::tangent, GroundMethod::ransac, GroundMethod::lpr}) {
     CHECK(parse_ground_method(to_string(m)) == m);
   }

@@ -26,7 +26,7 @@ run_step(${CMAKE_COMMAND} -S ${CONSUMER_SRC} -B ${SCRATCH}/build -G ${GENERATOR}
          -DCMAKE_BUILD_TYPE=${BUILD_TYPE} -DCMAKE_PREFIX_PATH=${prefix}
          -DCMAKE_CXX_FLAGS=${flags} -DCMAKE_EXE_LINKER_FLAGS=${flags})
 run_step(${CMAKE_COMMAND} --build ${SCRATCH}/build)
-run_step(${SCRATCH}/build/consumer)
+run_step(${SCRATCH}/build/consumer ${CAPTURE})
 if(NOT last_output MATCHES "consumer: ok")
   message(FATAL_ERROR "consumer printed: ${last_output}")
 endif()
