@@ -4,6 +4,7 @@
 
 #include "cli/options.hpp"
 #include "commands/commands.hpp"
+#include "commands/multi_runner.hpp"
 #include "commands/pipeline_runner.hpp"
 
 namespace vlpground::cli {
@@ -27,6 +28,11 @@ class LiveCommand : public Command {
         ->type_name("IP");
     cmd->add_option("--multicast", udp.multicast_group, "join this multicast group (empty: none)")
         ->type_name("GROUP");
+    cmd->add_option("--sensor", sensors_,
+                    "one of several sensors, repeatable: NAME=IP[:PORT][@x,y,z,roll,pitch,yaw] "
+                    "(port default --port, pose default --extrinsics); packets are routed by "
+                    "source address, outputs go per sensor (FILE.NAME.csv, DIR/NAME/)")
+        ->type_name("SPEC");
     cmd->add_option("--duration", request_.duration_s, "stop after this long (0 = no limit)")
         ->type_name("SECONDS")
         ->check(CLI::Range(0.0, 1e9));
@@ -42,11 +48,13 @@ class LiveCommand : public Command {
       throw UsageError("--position-port must differ from --port (both " +
                        std::to_string(udp.data_port) + ")");
     }
+    if (!sensors_.empty()) return run_multi_pipeline(std::move(request_), sensors_);
     return run_pipeline(std::move(request_));
   }
 
  private:
   RunRequest request_;
+  std::vector<std::string> sensors_;
 };
 
 }  // namespace
