@@ -22,6 +22,9 @@ MultiPipelineConfig multi_config(const RunRequest& request, const std::vector<st
     throw UsageError("--sensor-ip and --sensor exclude each other (--sensor NAME=IP names the "
                      "address of each sensor)");
   }
+  if (request.outputs.csv.path == "-") {
+    throw UsageError("--csv - with --sensor: give --csv a file (FILE.NAME.csv per sensor)");
+  }
   SensorConfig defaults;
   defaults.data_port = udp.data_port;
   defaults.position_port = udp.position_port;
@@ -120,9 +123,10 @@ int run_multi_pipeline(RunRequest request, const std::vector<std::string>& specs
   }
   multi->wait();
   signals.finish();
-  for (auto& set : sinks) set->finish(sink_errors);
-
   const MultiPipelineStats stats = multi->stats();
+  for (std::size_t i = 0; i < sinks.size(); ++i) {
+    sinks[i]->finish(stats.sensors[i].pipeline, sink_errors);
+  }
   const UdpRouterCounters& router = stats.router;
   if (request.json) {
     nlohmann::json j = {{"command", request.command},

@@ -32,6 +32,9 @@ std::string describe_input(const RunRequest& r) {
 int run_pipeline(RunRequest request) {
   const std::string prefix = "vlpground " + request.command + ": ";
   apply_log_level(request.log_level);
+  if (request.json && request.outputs.csv.path == "-") {
+    throw UsageError("--json and --csv - both write to stdout; give --csv a file");
+  }
   std::unique_ptr<SinkSet> sinks;
   try {
     sinks = std::make_unique<SinkSet>(make_sinks(request.outputs, request.config));
@@ -47,8 +50,10 @@ int run_pipeline(RunRequest request) {
     std::fprintf(stderr, "%s%s\n", prefix.c_str(), e.what());
     return kExitUsage;
   }
-  const bool terminal = isatty(STDOUT_FILENO) != 0 && !request.json;
-  const bool frame_lines = !terminal && !request.json;
+  // stdout carries only the requested output: the CSV with --csv -, else the console.
+  std::FILE* const console = request.outputs.csv.path == "-" ? stderr : stdout;
+  const bool terminal = isatty(fileno(console)) != 0 && !request.json;
+  const bool frame_lines = !terminal && !request.json && console == stdout;
   SinkErrors sink_errors;
   std::atomic<std::uint64_t> warnings{0};
   std::mutex gps_mutex;
@@ -98,19 +103,19 @@ int run_pipeline(RunRequest request) {
   using Clock = std::chrono::steady_clock;
   auto next_stats = Clock::now() + std::chrono::seconds(1);
   while (!pipeline->wait_for(100)) {
-    if (terminal) print_progress(stdout, pipeline->stats());
+    if (terminal) print_progress(console, pipeline->stats());
     if (Clock::now() >= next_stats) {
       next_stats += std::chrono::seconds(1);
       sinks->on_stats(pipeline->stats());
     }
   }
   if (terminal) {
-    print_progress(stdout, pipeline->stats());
-    std::fputc('\n', stdout);
+    print_progress(console, pipeline->stats());
+    std::fputc('\n', console);
   }
   pipeline->wait();
   signals.finish();
-  sinks->finish(sink_errors);
+  sinks->finish(pipeline->stats(), sink_errors);
 
   const PipelineStats stats = pipeline->stats();
   SummaryContext context{request.command, describe_input(request), request.config.detector.method,
@@ -118,7 +123,7 @@ int run_pipeline(RunRequest request) {
   if (request.json) {
     std::printf("%s\n", summary_json(stats, context).c_str());
   } else {
-    print_summary_table(stdout, stats, context);
+    print_summary_table(console, stats, context);
   }
   std::fflush(stdout);
   if (const std::string error = sink_errors.first(); !error.empty()) {

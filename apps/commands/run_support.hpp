@@ -115,11 +115,13 @@ class SinkSet {
   void on_stats(const PipelineStats& stats) {
     for (auto& sink : sinks_) sink->on_stats(stats);
   }
-  /// After the pipeline ended: finishes the sinks that have not failed.
-  void finish(SinkErrors& errors) {
+  /// After the pipeline ended: the final counters (a recording keeps them), then finish, for
+  /// the sinks that have not failed.
+  void finish(const PipelineStats& final_stats, SinkErrors& errors) {
     for (std::size_t i = 0; i < sinks_.size(); ++i) {
       if (working_[i] == nullptr) continue;  // failed: its error is already recorded
       try {
+        sinks_[i]->on_stats(final_stats);
         sinks_[i]->finish();
       } catch (const std::exception& e) {
         errors.record(e.what());

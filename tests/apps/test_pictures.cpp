@@ -93,7 +93,7 @@ TEST_CASE("canvas: text lands inside its measured box and differs by content", "
   CHECK(differing > 3);
 }
 
-TEST_CASE("png writer: header, legend, scale bar per frame; one overview per run",
+TEST_CASE("png writer: header, legend, scale bar per frame, and one overview per run",
           "[pictures]") {
   const auto dir = std::filesystem::temp_directory_path() /
                    ("vlpground_pictures_" + std::to_string(::getpid()));
