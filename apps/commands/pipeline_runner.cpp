@@ -122,7 +122,7 @@ int run_pipeline(RunRequest request) {
   pipeline->on_frame([&](const LabelledFrame& f) {
     if (writers.csv) writers.csv->write(f.frame, f.ground);
     if (writers.pcd) writers.pcd->write(f.frame, f.ground);
-    if (writers.png) writers.png->write(f.frame, f.ground);
+    if (writers.png) writers.png->write(f.frame, f.ground, f.timings.detect_ms);
     if (frame_lines) print_frame_line(stdout, f);
   });
   pipeline->on_telemetry([&](const PositionPacket& p) {
@@ -169,6 +169,11 @@ int run_pipeline(RunRequest request) {
   }
   pipeline->wait();
   signals.finish();
+  try {
+    if (writers.png) writers.png->finish();  // the run's overview.png
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s%s\n", prefix.c_str(), e.what());
+  }
 
   const PipelineStats stats = pipeline->stats();
   SummaryContext context{request.command, describe_input(request), request.config.detector.method,

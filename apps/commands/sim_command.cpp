@@ -19,7 +19,8 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: vlpground sim SCENE [options]\n"
-    "  SCENE                 flat | urban | slope | hills | jam | fences\n"
+    "  SCENE                 flat | urban | slope | hills | jam | fences | embankment |\n"
+    "                        bank | bowl | crest | garage\n"
     "  --seed S              scene and noise seed (default 1)\n"
     "  --frames N            complete rotations to simulate (default 10)\n"
     "  --rpm R               motor speed, 300..1200 (default 600)\n"
@@ -133,7 +134,7 @@ Options parse(int argc, char** argv) {
     }
   }
   if (o.help) return o;
-  if (!scene) throw UsageError{"missing SCENE (flat|urban|slope|hills|jam|fences)"};
+  if (!scene) throw UsageError{"missing SCENE (flat|urban|slope|hills|jam|fences|embankment|bank|bowl|crest|garage)"};
   const auto kind = sim::parse_scene_kind(*scene);
   if (!kind) {
     throw UsageError{"unknown scene '" + *scene + "' (" + std::string(sim::scene_kind_list()) +

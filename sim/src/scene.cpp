@@ -28,6 +28,37 @@ bool clip_slab(double origin, double d, double lo_b, double hi_b, double& lo, do
 
 }  // namespace
 
+void Profile::add(double position, double height) {
+  if (knots >= kMaxKnots) return;
+  at[static_cast<std::size_t>(knots)] = position;
+  h[static_cast<std::size_t>(knots)] = height;
+  ++knots;
+}
+
+double Profile::value(double s) const {
+  if (knots == 0) return 0.0;
+  if (s <= at[0]) return h[0];
+  for (std::size_t i = 1; i < static_cast<std::size_t>(knots); ++i) {
+    if (s < at[i]) return h[i - 1] + (h[i] - h[i - 1]) * (s - at[i - 1]) / (at[i] - at[i - 1]);
+  }
+  return h[static_cast<std::size_t>(knots) - 1];
+}
+
+double Profile::max_slope() const {
+  double m = 0.0;
+  for (std::size_t i = 1; i < static_cast<std::size_t>(knots); ++i)
+    m = std::max(m, std::fabs(h[i] - h[i - 1]) / std::max(1e-9, at[i] - at[i - 1]));
+  return m;
+}
+
+double Terrain::Curve::value(double s) const {
+  if (curvature_per_m == 0.0) return 0.0;
+  const double u = s - centre_m;
+  const double a = std::fabs(u);
+  if (a <= cap_m) return 0.5 * curvature_per_m * u * u;
+  return curvature_per_m * cap_m * (a - 0.5 * cap_m);
+}
+
 double Terrain::height(double x, double y) const {
   double h = 0.0;
   if (road_half_width_m > 0.0) {
@@ -36,8 +67,8 @@ double Terrain::height(double x, double y) const {
       const double r = ay / road_half_width_m;
       h = crown_m * (1.0 - r * r);
     } else {
-      const double across = std::min(ay - road_half_width_m, sidewalk_width_m);
-      h = curb_height_m + across * sidewalk_cross_slope;
+      const double off_road = std::min(ay - road_half_width_m, sidewalk_width_m);
+      h = curb_height_m + off_road * sidewalk_cross_slope;
     }
   }
   if (grade != 0.0) {
@@ -50,6 +81,8 @@ double Terrain::height(double x, double y) const {
   for (const Wave& w : waves) {
     if (w.amplitude_m != 0.0) h += w.amplitude_m * std::sin(w.kx * x + w.ky * y + w.phase);
   }
+  h += across.value(y) + curve_x.value(x) + curve_y.value(y);
+  if (along.knots > 0 && std::fabs(y) < along_half_width_m) h += along.value(x);
   return h;
 }
 

@@ -4,11 +4,14 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/udp.hpp>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
 #include <thread>
 #include <vector>
+
+#include "random.hpp"
 
 namespace vlpground::sim {
 namespace {
@@ -53,13 +56,108 @@ void restamp(Outgoing& o, std::int64_t shift_ns) {
   }
 }
 
+constexpr std::size_t kJunkSizes = 2200;  // junk sizes cycle through 0..2199 bytes
+
+// Sends packets with the configured faults injected; counts what it sent.
+class FaultySender {
+ public:
+  FaultySender(boost::asio::ip::udp::socket& socket, const UdpStreamConfig& config)
+      : socket_(socket), faults_(config.faults), rng_(config.faults.seed), junk_(kJunkSizes) {
+    for (auto& b : junk_) b = static_cast<std::uint8_t>(rng_.next());
+  }
+
+  void send(const Outgoing& o, const boost::asio::ip::udp::endpoint& to,
+            const boost::asio::ip::udp::endpoint& data_to) {
+    send_junk(data_to);
+    if (faults_.loss > 0 && rng_.chance(faults_.loss)) {
+      ++stats_.lost;
+      return;
+    }
+    if (!o.position && faults_.truncate > 0 && rng_.chance(faults_.truncate)) {
+      const auto length = static_cast<std::size_t>(rng_.integer(1, 1205));
+      if (transmit(boost::asio::buffer(o.bytes.data(), length), to)) ++stats_.truncated;
+      return;
+    }
+    if (held_ == nullptr && faults_.reorder > 0 && rng_.chance(faults_.reorder)) {
+      held_ = &o;
+      held_to_ = to;
+      return;
+    }
+    send_whole(o, to);
+    flush();
+  }
+
+  /// Sends a held-back packet (at the end of a pass).
+  void flush() {
+    if (held_ == nullptr) return;
+    const Outgoing* held = held_;
+    held_ = nullptr;
+    if (send_whole(*held, held_to_)) ++stats_.reordered;
+  }
+
+  UdpStreamStats stats_;
+
+ private:
+  bool transmit(const boost::asio::const_buffer& bytes, const boost::asio::ip::udp::endpoint& to) {
+    boost::system::error_code ec;
+    socket_.send_to(bytes, to, 0, ec);
+    if (ec) ++stats_.send_errors;
+    return !ec;
+  }
+
+  bool send_whole(const Outgoing& o, const boost::asio::ip::udp::endpoint& to) {
+    if (!transmit(boost::asio::buffer(o.bytes), to)) return false;
+    ++(o.position ? stats_.position_packets : stats_.data_packets);
+    return true;
+  }
+
+  void send_junk(const boost::asio::ip::udp::endpoint& to) {
+    if (faults_.junk <= 0) return;
+    const double whole = std::floor(faults_.junk);
+    const int count = static_cast<int>(whole) + (rng_.chance(faults_.junk - whole) ? 1 : 0);
+    for (int i = 0; i < count; ++i) {
+      const std::size_t size = junk_size_;
+      junk_size_ = (junk_size_ + 1) % kJunkSizes;
+      junk_[rng_.next() % kJunkSizes] ^= static_cast<std::uint8_t>(rng_.next() | 1);
+      if (transmit(boost::asio::buffer(junk_.data(), size), to)) ++stats_.junk;
+    }
+  }
+
+  boost::asio::ip::udp::socket& socket_;
+  UdpFaults faults_;
+  detail::Rng rng_;
+  std::vector<std::uint8_t> junk_;
+  std::size_t junk_size_ = 0;
+  const Outgoing* held_ = nullptr;
+  boost::asio::ip::udp::endpoint held_to_;
+};
+
 }  // namespace
+
+UdpStreamStats& UdpStreamStats::operator+=(const UdpStreamStats& o) {
+  data_packets += o.data_packets;
+  position_packets += o.position_packets;
+  send_errors += o.send_errors;
+  lost += o.lost;
+  reordered += o.reordered;
+  truncated += o.truncated;
+  junk += o.junk;
+  return *this;
+}
 
 void UdpStreamConfig::validate() const {
   if (host.empty()) throw std::invalid_argument("udp: empty host");
   if (data_port == 0 || position_port == 0) throw std::invalid_argument("udp: port 0");
   if (!(rate > 0.0 && rate <= 1000.0))
     throw std::invalid_argument("udp: rate must be in (0, 1000]");
+  for (const double fraction : {faults.loss, faults.reorder, faults.truncate}) {
+    if (!(fraction >= 0.0 && fraction <= 1.0)) {
+      throw std::invalid_argument("udp: fault fractions must be in [0, 1]");
+    }
+  }
+  if (!(faults.junk >= 0.0 && faults.junk <= 100.0)) {
+    throw std::invalid_argument("udp: junk must be in [0, 100] datagrams per packet");
+  }
 }
 
 UdpStreamStats stream_udp(const Simulator& sim, const UdpStreamConfig& config,
@@ -82,33 +180,38 @@ UdpStreamStats stream_udp(const Simulator& sim, const UdpStreamConfig& config,
   if (address.to_v4() == ip::address_v4::broadcast()) {
     socket.set_option(boost::asio::socket_base::broadcast(true));
   }
+  if (!config.source_address.empty()) {
+    const auto from = ip::make_address(config.source_address, ec);
+    if (!ec) socket.bind(ip::udp::endpoint(from, 0), ec);
+    if (ec) {
+      throw std::invalid_argument("udp: cannot send from '" + config.source_address +
+                                  "': " + ec.message());
+    }
+  }
 
   std::vector<Outgoing> all = prepare(sim);
-  UdpStreamStats stats;
-  if (all.empty()) return stats;
+  FaultySender sender(socket, config);
+  if (all.empty()) return sender.stats_;
   const std::int64_t first_ns = all.front().capture_ns;
   // One cycle lasts the span plus one packet period, so a loop continues the clock.
   const std::int64_t cycle_ns = all.back().capture_ns - first_ns + sim.packet_period_ns();
   const auto start = std::chrono::steady_clock::now();
   for (std::int64_t cycle = 0;; ++cycle) {
     for (Outgoing& o : all) {
-      if (should_stop && should_stop()) return stats;
+      if (should_stop && should_stop()) {
+        sender.flush();
+        return sender.stats_;
+      }
       const std::int64_t shift = cycle * cycle_ns;
       if (cycle > 0) restamp(o, shift);
       const auto due =
           start + std::chrono::nanoseconds(static_cast<std::int64_t>(
                       static_cast<double>(o.capture_ns + shift - first_ns) / config.rate));
       std::this_thread::sleep_until(due);
-      socket.send_to(boost::asio::buffer(o.bytes), o.position ? position_to : data_to, 0, ec);
-      if (ec) {
-        ++stats.send_errors;
-      } else if (o.position) {
-        ++stats.position_packets;
-      } else {
-        ++stats.data_packets;
-      }
+      sender.send(o, o.position ? position_to : data_to, data_to);
     }
-    if (!config.loop) return stats;
+    sender.flush();
+    if (!config.loop) return sender.stats_;
   }
 }
 

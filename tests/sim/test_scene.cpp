@@ -89,7 +89,8 @@ TEST_CASE("boxes and cylinders are hit at their surfaces", "[sim][scene]") {
 }
 
 TEST_CASE("scenes are deterministic per seed and differ across seeds", "[sim][scene]") {
-  for (const char* name : {"flat", "urban", "slope", "hills", "jam", "fences"}) {
+  for (const char* name : {"flat", "urban", "slope", "hills", "jam", "fences", "embankment", "bank",
+                           "bowl", "crest", "garage"}) {
     const auto kind = parse_scene_kind(name);
     REQUIRE(kind);
     CHECK(to_string(*kind) == name);
@@ -129,4 +130,45 @@ TEST_CASE("scene kinds have their characteristic terrain", "[sim][scene]") {
     far += r >= 28.0 && r <= 45.0 ? 1 : 0;
   }
   CHECK(far >= 10);
+}
+
+TEST_CASE("piecewise-linear profiles interpolate and hold their ends", "[sim][scene]") {
+  Profile p;
+  CHECK(p.value(3.0) == 0.0);
+  p.add(-2.0, -1.0);
+  p.add(0.0, 0.0);
+  p.add(4.0, 2.0);
+  CHECK(p.value(-5.0) == -1.0);
+  CHECK(p.value(-1.0) == Approx(-0.5));
+  CHECK(p.value(2.0) == Approx(1.0));
+  CHECK(p.value(9.0) == 2.0);
+  CHECK(p.max_slope() == Approx(0.5));
+}
+
+TEST_CASE("the terrain-shape scenes have the shape their name promises", "[sim][scene]") {
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    const Terrain e = Scene::generate(SceneKind::embankment, seed).terrain();
+    for (double y : {-40.0, 40.0}) {  // fields 1.5-3 m under the road on both sides
+      const double drop = e.height(5.0, 0.0) - e.height(5.0, y);
+      CHECK(drop > 1.4);
+      CHECK(drop < 3.2);
+    }
+    const Terrain b = Scene::generate(SceneKind::bank, seed).terrain();
+    const double bank = std::max(b.height(0.0, 30.0), b.height(0.0, -30.0)) - b.height(0.0, 0.0);
+    CHECK(bank > 1.9);  // a 2-5 m bank on one side
+    const Terrain w = Scene::generate(SceneKind::bowl, seed).terrain();
+    CHECK(std::max(w.height(0.0, 35.0), w.height(0.0, -35.0)) - w.height(0.0, 0.0) > 0.8);
+    const Terrain c = Scene::generate(SceneKind::crest, seed).terrain();
+    const double apex = c.curve_x.centre_m;
+    CHECK(c.height(apex, 0.0) - c.height(apex + 40.0, 0.0) > 1.5);  // falls away ahead
+    CHECK(c.height(apex, 0.0) - c.height(apex - 40.0, 0.0) > 1.5);  //   and behind
+    const Scene g = Scene::generate(SceneKind::garage, seed);
+    const Terrain& t = g.terrain();
+    CHECK(t.height(t.along.at[3] + 5.0, 0.0) < -2.7);  // garage floor
+    CHECK(t.height(t.along.at[3] + 5.0, t.along_half_width_m + 1.0) == 0.0);  // street above
+    bool ceiling = false;
+    for (const Obstacle& o : g.obstacles())
+      ceiling = ceiling || (o.cx_m > t.along.at[3] && o.z_min_m > -1.2 && o.z_min_m < 0.0);
+    CHECK(ceiling);
+  }
 }

@@ -13,57 +13,19 @@
 #include <thread>
 
 #include "capture_builder.hpp"
+#include "loopback.hpp"
 #include "vlpground/driver/packet_source.hpp"
 
 using namespace vlpground;
 using vlpground::test::Bytes;
 using vlpground::test::pattern_payload;
+using vlpground::test::free_port;
+using vlpground::test::loopback_address;
+using vlpground::test::Sender;
 
 namespace {
 
 constexpr int kWaitMs = 5000;  // upper bound only; loopback datagrams are there at once
-
-sockaddr_in loopback_address(const char* ip, std::uint16_t port) {
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(port);
-  REQUIRE(inet_pton(AF_INET, ip, &address.sin_addr) == 1);
-  return address;
-}
-
-/// A UDP socket of the test, bound to `source_ip` (any 127.x.y.z works on Linux loopback).
-class Sender {
- public:
-  explicit Sender(const char* source_ip = "127.0.0.1") : fd_(::socket(AF_INET, SOCK_DGRAM, 0)) {
-    REQUIRE(fd_ >= 0);
-    const sockaddr_in self = loopback_address(source_ip, 0);
-    REQUIRE(::bind(fd_, reinterpret_cast<const sockaddr*>(&self), sizeof self) == 0);
-  }
-  ~Sender() { ::close(fd_); }
-  Sender(const Sender&) = delete;
-  Sender& operator=(const Sender&) = delete;
-
-  void send(const Bytes& payload, std::uint16_t port) const {
-    const sockaddr_in to = loopback_address("127.0.0.1", port);
-    const auto sent = ::sendto(fd_, payload.data(), payload.size(), 0,
-                               reinterpret_cast<const sockaddr*>(&to), sizeof to);
-    REQUIRE(sent == static_cast<ssize_t>(payload.size()));
-  }
-
- private:
-  int fd_;
-};
-
-/// A port that was free a moment ago (the kernel's choice for an ephemeral bind).
-std::uint16_t free_port() {
-  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in address = loopback_address("127.0.0.1", 0);
-  REQUIRE(::bind(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0);
-  socklen_t length = sizeof address;
-  REQUIRE(::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0);
-  ::close(fd);
-  return ntohs(address.sin_port);
-}
 
 UdpSourceConfig loopback_config() {
   UdpSourceConfig config;
@@ -162,6 +124,12 @@ TEST_CASE("udp: the sensor address filter drops other senders") {
   PacketView view;
   REQUIRE(source->next(view, kWaitMs) == SourceStatus::packet);
   CHECK(received_bytes(view) == pattern_payload(1206, 8));
+  // The sender's address travels with the packet (routing several sensors by address).
+  CHECK(view.source.version == 4);
+  CHECK(view.source.bytes[0] == 127);
+  CHECK(view.source.bytes[3] == 1);
+  CHECK(view.source.port != 0);
+  CHECK(view.source.to_string().rfind("127.0.0.1:", 0) == 0);
   CHECK(source->counters().skipped_address == 1);
   CHECK(source->counters().records == 2);
 }

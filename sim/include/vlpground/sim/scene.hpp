@@ -13,19 +13,43 @@
 
 namespace vlpground::sim {
 
-enum class SceneKind : std::uint8_t { flat, urban, slope, hills, jam, fences };
+enum class SceneKind : std::uint8_t {
+  flat,
+  urban,
+  slope,
+  hills,
+  jam,
+  fences,
+  embankment,  // road on a levee, fields 1.5-3 m lower on both sides
+  bank,        // road along a side bank (cut slope rising beside it)
+  bowl,        // valley or round bowl around the sensor
+  crest,       // crowned road over a crest (vertical curve)
+  garage,      // ramp down into an underground garage
+};
 
 std::optional<SceneKind> parse_scene_kind(std::string_view name);
 std::string_view to_string(SceneKind kind);
-/// "flat|urban|slope|hills|jam|fences"
+/// "flat|urban|slope|hills|jam|fences|embankment|bank|bowl|crest|garage"
 std::string_view scene_kind_list();
 
 struct Vec3 {
   double x = 0.0, y = 0.0, z = 0.0;
 };
 
+/// Piecewise-linear height profile over one coordinate: knots (at[i], h[i]) with at
+/// increasing, constant beyond the first and last knot. No knots: 0 everywhere.
+struct Profile {
+  static constexpr int kMaxKnots = 10;
+  std::array<double, kMaxKnots> at{}, h{};
+  int knots = 0;
+  void add(double position, double height);  // appends a knot (positions increasing)
+  [[nodiscard]] double value(double s) const;
+  [[nodiscard]] double max_slope() const;  // largest |dh/ds| between knots
+};
+
 /// Analytic terrain: flat plane, optional crowned road with curbs and sidewalks, optional
-/// grade change ahead, optional rolling hills (sum of sinusoids).
+/// grade change ahead, optional rolling hills (sum of sinusoids), optional cross and
+/// longitudinal profiles (embankment, bank, garage ramp) and vertical curves (bowl, crest).
 struct Terrain {
   // Crowned road with curbs (urban): |y| < road_half_width_m is road, crown drops the edges.
   double road_half_width_m = 0.0;  // 0: no road profile
@@ -42,6 +66,19 @@ struct Terrain {
     double amplitude_m = 0.0, kx = 0.0, ky = 0.0, phase = 0.0;
   };
   std::array<Wave, 4> waves{};
+  // Cross-section: h += across.value(y) (embankment, side bank).
+  Profile across;
+  // Longitudinal profile: h += along.value(x) where |y| < along_half_width_m (a ramp cut
+  // into the ground between retaining walls), else nothing.
+  Profile along;
+  double along_half_width_m = 0.0;
+  // Vertical curves: h += c/2 * s^2 for |s| <= cap_m, continued linearly beyond (s = x - x0
+  // with curve_x, s = y - y0 with curve_y). c > 0: sag (bowl, valley), c < 0: crest.
+  struct Curve {
+    double centre_m = 0.0, curvature_per_m = 0.0, cap_m = 0.0;
+    [[nodiscard]] double value(double s) const;
+  };
+  Curve curve_x, curve_y;
   /// Upper bound of |grad h| away from curbs (used for safe ray-march steps).
   double max_slope = 0.05;
 
