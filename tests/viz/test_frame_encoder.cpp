@@ -78,10 +78,10 @@ TEST_CASE("points: every valid return with its label, in CSV order, placed by th
   config.extrinsics = {0.5, 0.0, 1.8, 0.0, 0.0, 90.0};
   FrameEncoder encoder(config);
   SchemaDecoder decoder(encoder.channels()[viz::kPointsChannel]);
-  const auto& lf = frames[1];
-  const auto messages = encode_all(encoder, lf.view());
+  const LabelledFrame& lf = *frames[1];
+  const auto messages = encode_all(encoder, lf);
   const auto cloud = decoder.decode(messages.at(viz::kPointsChannel).span());
-  CHECK(messages.at(viz::kPointsChannel).log_time_ns == lf.frame->meta.first_time_ns);
+  CHECK(messages.at(viz::kPointsChannel).log_time_ns == lf.frame.meta.first_time_ns);
 
   CHECK(text(*cloud, "frame_id") == "vehicle");
   const auto& pose = sub(*cloud, "pose");
@@ -94,7 +94,7 @@ TEST_CASE("points: every valid return with its label, in CSV order, placed by th
   CHECK(names == std::vector<std::string>{"x", "y", "z", "intensity", "ring", "label", "return"});
 
   const std::string data = text(*cloud, "data");
-  const Frame& f = *lf.frame;
+  const Frame& f = lf.frame;
   std::size_t n = 0, ground = 0;
   for (int col = 0; col < f.columns(); ++col) {
     for (int laser = 0; laser < kLasers; ++laser) {
@@ -110,14 +110,14 @@ TEST_CASE("points: every valid return with its label, in CSV order, placed by th
       REQUIRE(xyz[2] == f.layer[0].z_m[cell]);
       REQUIRE(b[0] == f.layer[0].intensity[cell]);
       REQUIRE(b[1] == ring);
-      REQUIRE(b[2] == label_at(*lf.ground, 0, ring, col));
+      REQUIRE(b[2] == label_at(lf.ground, 0, ring, col));
       REQUIRE(b[3] == 0);
       ground += b[2] == 1 ? 1u : 0u;
       ++n;
     }
   }
   CHECK(data.size() == n * 16);
-  CHECK(ground == lf.ground->ground_returns);
+  CHECK(ground == lf.ground.ground_returns);
   CHECK(ground > n / 4);
 }
 
@@ -126,13 +126,13 @@ TEST_CASE("points of a dual-return frame carry both returns, tagged") {
   REQUIRE_FALSE(frames.empty());
   FrameEncoder encoder;
   SchemaDecoder decoder(encoder.channels()[viz::kPointsChannel]);
-  const auto cloud = decoder.decode(encode_all(encoder, frames[0].view()).at(0).span());
+  const auto cloud = decoder.decode(encode_all(encoder, *frames[0]).at(0).span());
   const std::string data = text(*cloud, "data");
   std::size_t per_layer[2] = {};
   for (std::size_t i = 0; i < data.size() / 16; ++i) ++per_layer[static_cast<std::uint8_t>(data[i * 16 + 15])];
   const auto valid = [&](int l) {
-    return static_cast<std::size_t>(std::count(frames[0].frame->layer[l].valid.begin(),
-                                               frames[0].frame->layer[l].valid.end(), 1));
+    return static_cast<std::size_t>(std::count(frames[0]->frame.layer[l].valid.begin(),
+                                               frames[0]->frame.layer[l].valid.end(), 1));
   };
   CHECK(per_layer[0] == valid(0));
   CHECK(per_layer[1] == valid(1));
@@ -143,8 +143,8 @@ TEST_CASE("ground: each segment's plane patch over its cell, outlines, and the f
   const auto frames = labelled_frames("urban_demo.pcap");
   FrameEncoder encoder;
   SchemaDecoder decoder(encoder.channels()[viz::kGroundChannel]);
-  const auto& lf = frames[1];
-  const auto update = decoder.decode(encode_all(encoder, lf.view()).at(viz::kGroundChannel).span());
+  const LabelledFrame& lf = *frames[1];
+  const auto update = decoder.decode(encode_all(encoder, lf).at(viz::kGroundChannel).span());
   REQUIRE(count(*update, "entities") == 1);
   const auto& entity = at(*update, "entities", 0);
   CHECK(text(entity, "id") == "ground");
@@ -153,13 +153,13 @@ TEST_CASE("ground: each segment's plane patch over its cell, outlines, and the f
   std::map<std::string, std::string> meta;
   for (int i = 0; i < count(entity, "metadata"); ++i)
     meta[text(at(entity, "metadata", i), "key")] = text(at(entity, "metadata", i), "value");
-  CHECK(meta["frame"] == std::to_string(lf.frame->meta.sequence));
+  CHECK(meta["frame"] == std::to_string(lf.frame.meta.sequence));
   CHECK(meta["delivered"] == "1");
   CHECK(meta["detect_ms"] == "1.500");
-  CHECK(meta["ground_returns"] == std::to_string(lf.ground->ground_returns));
+  CHECK(meta["ground_returns"] == std::to_string(lf.ground.ground_returns));
   int green = 0;
   for (int s = 0; s < 4; ++s) {
-    const GroundSegment& g = lf.ground->segments[static_cast<std::size_t>(s)];
+    const GroundSegment& g = lf.ground.segments[static_cast<std::size_t>(s)];
     const auto& patch = at(entity, "triangles", s);
     REQUIRE(count(patch, "points") == 4);
     CHECK(count(patch, "indices") == 6);
@@ -186,9 +186,9 @@ TEST_CASE("range image: 16 x N rgb8, top row the highest ring, ground green, obs
   const auto frames = labelled_frames("urban_demo.pcap");
   FrameEncoder encoder;
   SchemaDecoder decoder(encoder.channels()[viz::kRangeImageChannel]);
-  const auto& lf = frames[1];
-  const auto image = decoder.decode(encode_all(encoder, lf.view()).at(viz::kRangeImageChannel).span());
-  const auto width = static_cast<std::size_t>(lf.frame->columns());
+  const LabelledFrame& lf = *frames[1];
+  const auto image = decoder.decode(encode_all(encoder, lf).at(viz::kRangeImageChannel).span());
+  const auto width = static_cast<std::size_t>(lf.frame.columns());
   CHECK(u32(*image, "width") == width);
   CHECK(u32(*image, "height") == 16);
   CHECK(text(*image, "encoding") == "rgb8");
@@ -200,11 +200,11 @@ TEST_CASE("range image: 16 x N rgb8, top row the highest ring, ground green, obs
     const int ring = 15 - row;
     for (std::size_t col = 0; col < width; col += 7) {
       const auto* px = reinterpret_cast<const std::uint8_t*>(data.data() + (static_cast<std::size_t>(row) * width + col) * 3);
-      if (lf.frame->layer[0].valid[lf.frame->index(ring, static_cast<int>(col))] == 0) {
+      if (lf.frame.layer[0].valid[lf.frame.index(ring, static_cast<int>(col))] == 0) {
         CHECK((px[0] | px[1] | px[2]) == 0);
         continue;
       }
-      const auto label = label_at(*lf.ground, 0, ring, static_cast<int>(col));
+      const auto label = label_at(lf.ground, 0, ring, static_cast<int>(col));
       if (label == 1) CHECK(px[1] > px[0]);
       if (label == 2) CHECK(px[0] > px[1]);
       ++checked;
@@ -257,10 +257,10 @@ TEST_CASE("encoding allocates nothing once warm") {
   const viz::MessageSink sink = [&bytes](std::size_t, std::int64_t, std::span<const std::byte> b) {
     bytes += b.size();
   };
-  for (const auto& f : frames) encoder.encode(f.view(), sink);  // warm-up: the largest frame
+  for (const auto& f : frames) encoder.encode(*f, sink);  // warm-up: the largest frame
   const long before = allocation_count();
   for (int pass = 0; pass < 3; ++pass)
-    for (const auto& f : frames) encoder.encode(f.view(), sink);
+    for (const auto& f : frames) encoder.encode(*f, sink);
   CHECK(allocation_count() - before == 0);
   CHECK(bytes > 0);
 }
