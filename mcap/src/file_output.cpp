@@ -28,7 +28,10 @@ FileOutput::~FileOutput() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-void FileOutput::fail(const char* what) const {
+void FileOutput::fail(const char* what) {
+  const int error = errno;
+  failed_ = true;
+  errno = error;
   throw std::runtime_error("mcap: cannot " + std::string(what) + " '" + path_ +
                            "': " + std::strerror(errno));
 }
@@ -37,6 +40,7 @@ void FileOutput::open(const std::string& path) {
   path_ = path;
   fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd_ < 0) fail("create");
+  failed_ = false;
   offset_ = 0;
   crc_ = 0;
 }

@@ -29,14 +29,17 @@ class FileOutput {
   void close();
 
   [[nodiscard]] bool is_open() const { return fd_ >= 0; }
+  /// A write or sync failed: the file may end in a torn record.
+  [[nodiscard]] bool failed() const { return failed_; }
   [[nodiscard]] std::uint64_t offset() const { return offset_; }
   [[nodiscard]] std::uint32_t crc() const { return crc_; }
   void restart_crc() { crc_ = 0; }
   [[nodiscard]] const std::string& path() const { return path_; }
 
  private:
-  [[noreturn]] void fail(const char* what) const;
+  [[noreturn]] void fail(const char* what);
   int fd_ = -1;
+  bool failed_ = false;
   std::uint64_t offset_ = 0;
   std::uint32_t crc_ = 0;
   std::string path_;

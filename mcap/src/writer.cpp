@@ -83,6 +83,10 @@ struct Writer::Impl {
 
   void require_open(const char* what) const {
     if (!file.is_open()) throw std::logic_error(std::string("mcap: ") + what + " on a closed writer");
+    if (file.failed()) {
+      throw std::runtime_error("mcap: '" + file.path() +
+                               "' is no longer written after an earlier write error");
+    }
   }
 
   void write_records() {
@@ -139,22 +143,31 @@ struct Writer::Impl {
   // "Message Index"); everything reaches the file before this returns.
   void close_chunk() {
     if (chunk_messages == 0) return;
-    const std::span<const std::byte> compressed = compressor->compress(chunk);
-    const std::uint32_t chunk_crc = detail::crc32(0, chunk);
-
     ChunkIndexEntry entry{};
+    write_chunk_record(entry);
+    write_message_indexes(entry);
+    if (config.sync_each_chunk) file.sync();
+    chunk_indexes.push_back(entry);
+    ++stats.chunks;
+    stats.uncompressed_bytes += chunk.size();
+    chunk.clear();
+    chunk_messages = 0;
+    chunk_time = {};
+  }
+
+  void write_chunk_record(ChunkIndexEntry& entry) {
+    const std::span<const std::byte> compressed = compressor->compress(chunk);
     entry.start_ns = chunk_time.start;
     entry.end_ns = chunk_time.end;
     entry.chunk_offset = file.offset();
     entry.compressed_size = compressed.size();
     entry.uncompressed_size = chunk.size();
-
     RecordBuffer r(records);
     const auto at = r.begin_record(Opcode::chunk);
     r.u64(chunk_time.start);
     r.u64(chunk_time.end);
     r.u64(chunk.size());
-    r.u32(chunk_crc);
+    r.u32(detail::crc32(0, chunk));
     r.string(mcap_name(config.compression));
     r.u64(compressed.size());
     // The record's length covers the compressed bytes, written right after this header.
@@ -162,7 +175,10 @@ struct Writer::Impl {
     entry.chunk_length = records.size() + compressed.size();
     write_records();
     file.write(compressed);
+  }
 
+  void write_message_indexes(ChunkIndexEntry& entry) {
+    RecordBuffer r(records);
     entry.first_offset = index_offsets.size();
     const std::uint64_t indexes_start = file.offset();
     for (std::size_t id = 0; id < channels.size(); ++id) {
@@ -170,7 +186,7 @@ struct Writer::Impl {
       if (index.empty()) continue;
       if (!std::is_sorted(index.begin(), index.end())) std::sort(index.begin(), index.end());
       index_offsets.push_back({static_cast<std::uint16_t>(id), indexes_start + records.size()});
-      const auto mi = r.begin_record(Opcode::message_index);
+      const auto at = r.begin_record(Opcode::message_index);
       r.u16(static_cast<std::uint16_t>(id));
       const auto array_at = r.begin_prefix32();
       for (const IndexEntry& e : index) {
@@ -178,20 +194,12 @@ struct Writer::Impl {
         r.u64(e.offset);
       }
       r.end_prefix32(array_at);
-      r.end_record(mi);
+      r.end_record(at);
       index.clear();
     }
     entry.offset_count = index_offsets.size() - entry.first_offset;
     entry.message_index_length = records.size();
     write_records();
-    if (config.sync_each_chunk) file.sync();
-
-    chunk_indexes.push_back(entry);
-    ++stats.chunks;
-    stats.uncompressed_bytes += chunk.size();
-    chunk.clear();
-    chunk_messages = 0;
-    chunk_time = {};
   }
 
   void append_chunk_index(RecordBuffer& r, const ChunkIndexEntry& e) const {
@@ -373,6 +381,10 @@ void Writer::flush() {
 void Writer::close() {
   Impl& m = *impl_;
   if (!m.file.is_open()) return;
+  if (m.file.failed()) {  // a summary after a torn record would be unreadable: keep the
+    m.file.close();       // file as it is (it streams up to its last complete chunk)
+    return;
+  }
   m.close_chunk();
   m.write_summary_and_footer();
   m.stats.file_bytes = m.file.offset();

@@ -221,6 +221,8 @@ struct Pipeline::Impl {
     detector.detect(f.frame, f.ground);
     f.timings = FrameTimings{};
     f.timings.detect_ms = ms_since(t0, steady_now_ns());
+    f.sensor_index = config.sensor_index;
+    if (f.sensor_name != config.sensor_name) f.sensor_name = config.sensor_name;  // once per slot
     std::lock_guard lock(stats_mutex);
     detect_time.record(f.timings.detect_ms);
   }

@@ -84,6 +84,12 @@ py::dict simulate(const std::string& scene, const fs::path& out, std::uint64_t s
                   "ground_returns"_a = summary.ground_returns, "duration_s"_a = summary.duration_s);
 }
 
+// Precision, recall and F1 of summed confusion counts (the library's definitions).
+py::tuple confusion_scores(std::uint64_t tp, std::uint64_t fp, std::uint64_t fn, std::uint64_t tn) {
+  const eval::Confusion c{tp, fp, fn, tn};
+  return py::make_tuple(c.precision(), c.recall(), c.f1());
+}
+
 }  // namespace
 
 void bind_eval_sim(py::module_& m) {
@@ -91,6 +97,7 @@ void bind_eval_sim(py::module_& m) {
         "radius_m"_a, "max_frames"_a);
   m.def("_simulate", &simulate, "scene"_a, "out"_a, "seed"_a, "frames"_a, "rpm"_a, "mode"_a,
         "model"_a, "sensor_height_m"_a, "speed_mps"_a, "roll_deg"_a, "pitch_deg"_a);
+  m.def("_confusion_scores", &confusion_scores, "tp"_a, "fp"_a, "fn"_a, "tn"_a);
   m.def("sim_extrinsics", &eval::load_sim_extrinsics, "json_path"_a,
         "Extrinsics of a simulator capture from its STEM.json (mounting roll/pitch, sensor "
         "height), so the vehicle frame has z = 0 on the ground under the sensor.");

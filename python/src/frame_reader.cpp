@@ -27,6 +27,7 @@ constexpr std::size_t kPooledFrames = 4;
 
 struct ReaderLimits {
   std::uint64_t max_frames = 0;  // 0: no limit
+  std::uint64_t first_frame = 0;  // frames before this sequence are read, not detected
   double duration_s = 0;         // 0: no limit
   double idle_timeout_s = 0;     // 0: wait for packets without limit
 };
@@ -38,7 +39,7 @@ class FrameReader {
               ReaderLimits limits)
       : live_(source->is_live()),
         description_(source->describe()),
-        reader_(std::move(source), decoder, assembler),
+        reader_(std::make_unique<CaptureReader>(std::move(source), decoder, assembler)),
         detector_(detector),
         method_(method_name(detector)),
         limits_(limits),
@@ -54,11 +55,11 @@ class FrameReader {
           return r;
         },
         kPooledFrames);
-    reader_.on_position([this](const PositionPacket& p) {
+    reader_->on_position([this](const PositionPacket& p) {
       gps_.has_position = true;
       gps_.last = p;
     });
-    reader_.on_warning([this](const std::string& w) { pending_warnings_.push_back(w); });
+    reader_->on_warning([this](const std::string& w) { pending_warnings_.push_back(w); });
   }
 
   PyFrame next() {
@@ -74,12 +75,12 @@ class FrameReader {
       {
         py::gil_scoped_release release;
         const std::lock_guard lock(mutex_);
-        status = reader_.next(*frame, live_ ? kLiveWaitMs : kReplayWaitMs);
+        status = read_frame(*frame);
         if (status == ReadStatus::frame) {
           detector_.detect(*frame, *ground);
           meta->frame = frame->meta;
           meta->gps = gps_;
-          meta->counters = reader_.counters();
+          meta->counters = reader_->counters();
         }
       }
       forward_warnings();
@@ -99,12 +100,52 @@ class FrameReader {
     }
   }
 
-  void stop() { reader_.request_stop(); }
+  void stop() {
+    const std::lock_guard lock(stop_mutex_);
+    if (reader_) reader_->request_stop();
+  }
+
+  /// Stops and releases the source (socket or file) at once; counters stay readable.
+  void close() {
+    stop();
+    py::gil_scoped_release release;
+    const std::lock_guard lock(mutex_);
+    const std::lock_guard stop_lock(stop_mutex_);
+    if (!reader_) return;
+    final_counters_ = reader_->counters();
+    reader_.reset();
+    finished_ = true;
+  }
+
+  /// Reads the rest of the input without detection; returns the frames it held.
+  std::uint64_t skip_to_end() {
+    std::uint64_t skipped = 0;
+    auto frame = frames_->acquire();
+    while (!finished_) {
+      ReadStatus status = ReadStatus::stopped;
+      {
+        py::gil_scoped_release release;
+        const std::lock_guard lock(mutex_);
+        status = read_frame(*frame);
+      }
+      forward_warnings();
+      if (status == ReadStatus::frame) {
+        ++skipped;
+      } else if (status == ReadStatus::timeout) {
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+        check_time_limits();
+      } else {
+        finished_ = true;
+        if (status == ReadStatus::end_of_input) check_something_decoded();
+      }
+    }
+    return skipped;
+  }
 
   [[nodiscard]] CaptureCounters counters() {
     py::gil_scoped_release release;
     const std::lock_guard lock(mutex_);
-    return reader_.counters();
+    return counters_locked();
   }
 
   [[nodiscard]] const std::string& description() const { return description_; }
@@ -113,6 +154,22 @@ class FrameReader {
   [[nodiscard]] const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
+  // Next frame at or after limits_.first_frame (earlier ones are assembled, then dropped).
+  ReadStatus read_frame(Frame& frame) {
+    while (true) {
+      if (!reader_) return ReadStatus::stopped;
+      const ReadStatus status = reader_->next(frame, live_ ? kLiveWaitMs : kReplayWaitMs);
+      if (status != ReadStatus::frame) return status;
+      ++frames_read_;
+      if (frame.meta.sequence >= limits_.first_frame) return status;
+    }
+  }
+
+  // The reader's counters (or the last ones, once closed); the caller excludes next().
+  [[nodiscard]] CaptureCounters counters_locked() const {
+    return reader_ ? reader_->counters() : final_counters_;
+  }
+
   void forward_warnings() {
     for (const auto& w : pending_warnings_) {
       warnings_.push_back(w);
@@ -133,7 +190,7 @@ class FrameReader {
     }
     if (limits_.idle_timeout_s > 0 && seconds(now - last_frame_) >= limits_.idle_timeout_s) {
       finished_ = true;
-      const auto data = reader_.counters().source.data_packets;
+      const auto data = counters_locked().source.data_packets;
       const std::string message = description_ + ": no frame for " +
                                   std::to_string(limits_.idle_timeout_s) + " s (" +
                                   std::to_string(data) + " data packets received so far)";
@@ -142,19 +199,25 @@ class FrameReader {
     }
   }
 
-  // A capture with data packets that produced no frame is an error, not an empty result.
+  // A capture that produced no frame is an error (not a VLP-16 capture, truncated, empty),
+  // as for the CLI, not an empty result.
   void check_something_decoded() {
-    const CaptureCounters c = reader_.counters();
-    if (delivered_ > 0 || c.source.data_packets == 0) return;
-    std::string why = warnings_.empty() ? "" : " (" + warnings_.back() + ")";
-    throw std::runtime_error(description_ + ": no frame decoded from " +
-                             std::to_string(c.source.data_packets) + " data packets" + why);
+    if (frames_read_ > 0) return;
+    const CaptureCounters c = counters_locked();
+    std::string why = warnings_.empty() ? "" : ": " + warnings_.back();
+    throw std::runtime_error(
+        description_ + ": no VLP-16 frame decoded (" + std::to_string(c.source.records) +
+        " records, " + std::to_string(c.source.data_packets) + " data packets, " +
+        std::to_string(c.source.position_packets) + " position packets, " +
+        std::to_string(c.source.truncated) + " truncated)" + why);
   }
 
   bool live_;
   std::string description_;
   std::mutex mutex_;  // one next() at a time
-  CaptureReader reader_;
+  std::mutex stop_mutex_;  // guards reader_'s lifetime against stop() from other threads
+  std::unique_ptr<CaptureReader> reader_;
+  CaptureCounters final_counters_;
   GroundDetector detector_;
   std::string method_;
   ReaderLimits limits_;
@@ -164,6 +227,7 @@ class FrameReader {
   std::vector<std::string> pending_warnings_;
   std::vector<std::string> warnings_;
   std::uint64_t delivered_ = 0;
+  std::uint64_t frames_read_ = 0;  // assembled, delivered or not
   bool finished_ = false;
   Clock::time_point started_;
   Clock::time_point last_frame_;
@@ -197,7 +261,8 @@ std::unique_ptr<FrameReader> open_pcap(const std::string& path, const DetectorCo
                                        const std::string& calibration,
                                        const std::optional<std::string>& model, double cut_angle_deg,
                                        const std::string& sensor_ip, int port, int position_port,
-                                       bool loop, std::uint64_t max_frames) {
+                                       bool loop, std::uint64_t max_frames,
+                                       std::uint64_t first_frame) {
   PcapSourceConfig pcap;
   pcap.path = path;
   pcap.data_port = port_number(port, "port");
@@ -213,7 +278,7 @@ std::unique_ptr<FrameReader> open_pcap(const std::string& path, const DetectorCo
     source = open_pcap_source(pcap);
   }
   return std::make_unique<FrameReader>(std::move(source), decoder, assembler, detector,
-                                       ReaderLimits{max_frames, 0.0, 0.0});
+                                       ReaderLimits{max_frames, first_frame, 0.0, 0.0});
 }
 
 std::unique_ptr<FrameReader> open_live(int port, const std::string& bind, int position_port,
@@ -237,7 +302,7 @@ std::unique_ptr<FrameReader> open_live(int port, const std::string& bind, int po
   if (duration_s < 0 || timeout_s < 0) throw py::value_error("duration_s and timeout_s must be >= 0");
   auto source = open_udp_source(udp);
   return std::make_unique<FrameReader>(std::move(source), decoder, assembler, detector,
-                                       ReaderLimits{max_frames, duration_s, timeout_s});
+                                       ReaderLimits{max_frames, 0, duration_s, timeout_s});
 }
 
 }  // namespace
@@ -252,8 +317,14 @@ void bind_reader(py::module_& m) {
       .def("stop", &FrameReader::stop,
            "End the iteration: the next (or a blocked) __next__ raises StopIteration. Callable "
            "from any thread.")
+      .def("skip_to_end", &FrameReader::skip_to_end,
+           "Reads the rest of the input without ground detection (fast) and returns how many "
+           "frames it held; the iteration is then over.")
       .def("__enter__", [](py::object self) { return self; })
-      .def("__exit__", [](FrameReader& r, const py::args&) { r.stop(); })
+      .def("close", &FrameReader::close,
+           "Stops and releases the socket or file at once (also done when the reader is "
+           "garbage-collected, and by `with`).")
+      .def("__exit__", [](FrameReader& r, const py::args&) { r.close(); })
       .def_property_readonly("counters", [](FrameReader& r) { return counters_dict(r.counters()); },
                              "Source, decoder and assembler counters so far.")
       .def_property_readonly("frames", &FrameReader::delivered, "Frames handed out so far.")
@@ -264,7 +335,8 @@ void bind_reader(py::module_& m) {
                              "Distinct reader warnings so far (also issued as RuntimeWarning).");
 
   m.def("_open_pcap", &open_pcap, "path"_a, "detector"_a, "calibration"_a, "model"_a,
-        "cut_angle_deg"_a, "sensor_ip"_a, "port"_a, "position_port"_a, "loop"_a, "max_frames"_a);
+        "cut_angle_deg"_a, "sensor_ip"_a, "port"_a, "position_port"_a, "loop"_a, "max_frames"_a,
+        "first_frame"_a);
   m.def("_open_live", &open_live, "port"_a, "bind"_a, "position_port"_a, "sensor_ip"_a,
         "multicast"_a, "reuse_address"_a, "detector"_a, "calibration"_a, "model"_a,
         "cut_angle_deg"_a, "max_frames"_a, "duration_s"_a, "timeout_s"_a);

@@ -122,10 +122,11 @@ std::uint64_t count_returns(const Frame& fr) {
 }
 
 enum class Field : std::uint8_t {
-  x, y, z, intensity, ring, laser, return_layer, azimuth_deg, range_m, time_s, label, height_m
+  x, y, z, intensity, ring, laser, return_layer, azimuth_deg, range_m, time_s, label, height_m,
+  column
 };
 
-constexpr std::array<std::pair<std::string_view, Field>, 12> kFields{{
+constexpr std::array<std::pair<std::string_view, Field>, 13> kFields{{
     {"x", Field::x},
     {"y", Field::y},
     {"z", Field::z},
@@ -138,6 +139,7 @@ constexpr std::array<std::pair<std::string_view, Field>, 12> kFields{{
     {"time_s", Field::time_s},
     {"label", Field::label},
     {"height_m", Field::height_m},
+    {"column", Field::column},
 }};
 
 std::vector<Field> parse_fields(const std::vector<std::string>& names) {
@@ -178,6 +180,7 @@ double field_value(const Frame& fr, const GroundResult& g, Field field, int laye
     case Field::range_m: return d.range_m[i];
     case Field::time_s: return static_cast<double>(firing_time_ns(fr, ring, col)) * 1e-9;
     case Field::label: return gi < g.label[layer].size() ? g.label[layer][gi] : 0;
+    case Field::column: return col;
     case Field::height_m:
       return gi < g.height_m[layer].size() ? g.height_m[layer][gi]
                                            : std::numeric_limits<double>::quiet_NaN();
@@ -474,7 +477,7 @@ void bind_frame(py::module_& m) {
            "Flat N x k float64 array of the valid returns (every layer), one row per return in "
            "the order of the CLI's CSV (column, then laser id, then return layer); columns are "
            "`fields` (default x, y, z, intensity, ring, laser, return, azimuth_deg, range_m, "
-           "time_s, label; also height_m). One copy.")
+           "time_s, label; also height_m and column, the column index). One copy.")
       .def("__repr__", [](const PyFrame& f) {
         return "Frame(sequence=" + std::to_string(f.frame->meta.sequence) +
                ", columns=" + std::to_string(f.frame->columns()) +
@@ -482,7 +485,8 @@ void bind_frame(py::module_& m) {
                "', complete=" + (f.frame->meta.complete ? "True" : "False") + ")";
       });
   m.attr("POINT_FIELDS") = py::make_tuple("x", "y", "z", "intensity", "ring", "laser", "return",
-                                          "azimuth_deg", "range_m", "time_s", "label", "height_m");
+                                          "azimuth_deg", "range_m", "time_s", "label", "height_m",
+                                          "column");
 }
 
 }  // namespace vlpground::python

@@ -117,7 +117,11 @@ def test_meta_planes_and_points_fields():
     f = frames[1]
     assert f.meta.complete and f.meta.mode == "strongest" and f.meta.model == "vlp16"
     assert f.meta.end == "cut" and 500 < f.meta.rpm < 700
-    assert f.meta.gps.has_position and f.meta.gps.pps in ("absent", "synchronizing", "locked", "error")
+    # The demo captures send position packets with PPS locked and a valid $GPRMC.
+    gps = f.meta.gps
+    assert gps.has_position and gps.pps == "locked" and gps.gprmc == "valid"
+    assert abs(gps.utc_ns - f.meta.start_time_ns) < 2_000_000_000
+    assert gps.sentence.startswith("$GPRMC") and abs(gps.latitude_deg - 48.1173) < 1e-3
     assert f.meta.counters["source"]["data_packets"] >= f.meta.packets_used
     assert frames[-1].meta.counters["assembler"]["frames"] == len(frames)
     assert len(f.planes) == 4 and any(s.has_ground for s in f.planes)

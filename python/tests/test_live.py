@@ -66,11 +66,15 @@ def test_timeout_and_duration(ports):
     assert 0.25 < time.monotonic() - start < 5
 
 
-def test_port_in_use_is_a_clear_error(ports):
+def test_port_in_use_is_a_clear_error_and_close_frees_it(ports):
     data, position = ports
-    with vlpground.live(data, "127.0.0.1", position_port=0):
+    with vlpground.live(data, "127.0.0.1", position_port=0) as first:
         with pytest.raises(RuntimeError, match="in use"):
             vlpground.live(data, "127.0.0.1", position_port=0)
+    # Leaving the block released the socket although `first` is still referenced.
+    second = vlpground.live(data, "127.0.0.1", position_port=0)
+    second.close()
+    assert list(first) == [] and first.counters["source"]["data_packets"] == 0
 
 
 def test_ctrl_c_stops_a_waiting_live_loop(ports):

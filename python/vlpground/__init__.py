@@ -37,7 +37,7 @@ from . import _core
 __all__ = [
     "POINT_FIELDS", "SCENES", "DetectorConfig", "Extrinsics", "Frame", "FrameLayer",
     "FrameMeta", "FrameReader", "GpsState", "GroundDetector", "GroundSegment", "Plane",
-    "read_pcap", "live", "evaluate", "simulate", "sim_extrinsics",
+    "read_pcap", "count_frames", "live", "evaluate", "simulate", "sim_extrinsics",
 ]
 __version__ = "0.1.0"
 
@@ -90,7 +90,7 @@ def read_pcap(path: PathLike, *, method: Optional[str] = "tangent",
               model: Optional[str] = None, cut_angle_deg: float = 0.0,
               sensor_ip: Optional[str] = None, port: int = 2368, position_port: int = 8308,
               detector: Optional[DetectorConfig] = None, frames: Optional[int] = None,
-              loop: bool = False) -> FrameReader:
+              loop: bool = False, first_frame: int = 0) -> FrameReader:
     """Frames of a pcap/pcapng capture, decoded and labelled, in capture order.
 
     Args:
@@ -106,16 +106,32 @@ def read_pcap(path: PathLike, *, method: Optional[str] = "tangent",
         detector: full DetectorConfig (method/extrinsics above override its fields).
         frames: stop after this many frames (default: all).
         loop: replay the file again at its end (timestamps keep increasing).
+        first_frame: start at the frame of this sequence number; the frames before it are
+            decoded (frames are cut where the whole capture is cut) but not labelled or
+            returned, so consecutive ranges of a capture never lose or double a frame.
 
     The first and last frames of a capture are usually partial rotations
     (``frame.meta.complete`` is False), exactly as the CLI delivers them. Raises
-    RuntimeError when the file is missing or not a capture, and at the end when data
-    packets were read but no frame decoded (e.g. not a VLP-16).
+    RuntimeError when the file is missing or not a capture, and at the end when no frame
+    was decoded (no VLP-16 data packets: another sensor, other ports, truncated, empty).
     """
     return _core._open_pcap(os.fspath(path), _detector(method, extrinsics, detector),
                             os.fspath(calibration) if calibration else "", model,
                             float(cut_angle_deg), sensor_ip or "", int(port),
-                            int(position_port), bool(loop), _frames_limit(frames))
+                            int(position_port), bool(loop), _frames_limit(frames),
+                            _first_frame(first_frame))
+
+
+def count_frames(path: PathLike, **read_options) -> int:
+    """The number of frames ``read_pcap(path, **read_options)`` yields, without ground
+    detection (decoding alone: about 1000x real time)."""
+    return read_pcap(path, **read_options).skip_to_end()
+
+
+def _first_frame(first_frame: int) -> int:
+    if first_frame < 0:
+        raise ValueError(f"first_frame must be >= 0, got {first_frame}")
+    return int(first_frame)
 
 
 def live(port: int = 2368, bind: str = "0.0.0.0", *, position_port: int = 8308,

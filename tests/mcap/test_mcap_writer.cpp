@@ -5,7 +5,7 @@
 #include <map>
 #include <string>
 
-#include "../evaluation/allocation_counter.hpp"
+#include "allocation_counter.hpp"
 #include "mini_reader.hpp"
 #include "vlpground/mcap/writer.hpp"
 
@@ -328,4 +328,17 @@ TEST_CASE("mcap writer: errors are clear", "[mcap]") {
   CHECK(parse_compression("lz4") == Compression::lz4);
   CHECK(parse_compression("none") == Compression::none);
   CHECK_FALSE(parse_compression("gzip").has_value());
+}
+
+TEST_CASE("mcap writer: a write error is reported once, then the writer refuses", "[mcap]") {
+  if (!fs::exists("/dev/full")) {
+    WARN("skipped: no /dev/full");
+    return;
+  }
+  Writer writer;
+  CHECK_THROWS_WITH(writer.open("/dev/full"), Catch::Contains("No space left on device"));
+  CHECK_THROWS_WITH(writer.add_schema("s", "jsonschema", text("{}")),
+                    Catch::Contains("earlier write error"));
+  CHECK_NOTHROW(writer.close());  // no summary after a torn record; nothing else to do
+  CHECK_FALSE(writer.is_open());
 }

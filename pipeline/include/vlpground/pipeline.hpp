@@ -62,6 +62,10 @@ struct PipelineConfig {
   int lease_frames = 2;          // frames the program may hold (leases, or ready for next())
   std::uint64_t max_frames = 0;  // stop after delivering this many frames; 0 = no limit
   int read_timeout_ms = 200;     // how often the reader wakes up when no packet arrives
+  // Which sensor this pipeline serves, copied onto every LabelledFrame (MultiPipeline sets
+  // them; a single-sensor program may name its sensor too).
+  std::string sensor_name;
+  std::uint32_t sensor_index = 0;
 
   /// Throws std::invalid_argument with a clear message (also validates the sub-configs).
   void validate() const;
@@ -109,6 +113,8 @@ struct LabelledFrame {
   FrameTimings timings;
   std::uint64_t delivered_index = 0;  // 0, 1, 2, ... in delivery order (gaps in
                                       // meta.sequence mean dropped frames)
+  std::string sensor_name;            // PipelineConfig::sensor_name (MultiPipeline: the
+  std::uint32_t sensor_index = 0;     //   sensor's name and index in its config)
 };
 
 /// A frame held by the program: valid and unchanged while any copy lives.
