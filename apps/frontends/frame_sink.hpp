@@ -27,6 +27,8 @@ class FrameSink {
   virtual void write(const LabelledFrame& f) = 0;
   /// About once a second, from the runner's main thread.
   virtual void on_stats(const PipelineStats& /*stats*/) {}
+  /// Every position packet (PPS, $GPRMC), on the acquisition thread.
+  virtual void on_position(const PositionPacket& /*packet*/) {}
   /// End of the run: flush and close. Throws std::runtime_error with a one-line reason when
   /// the output could not be written.
   virtual void finish() {}

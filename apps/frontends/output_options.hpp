@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "frontends/csv_frontend.hpp"
+#include "frontends/foxglove_frontend.hpp"
 #include "frontends/frame_sink.hpp"
 #include "frontends/mcap_frontend.hpp"
 #include "frontends/pcd_frontend.hpp"
@@ -19,6 +20,7 @@ struct OutputOptions {
   PcdOptions pcd;
   PngOptions png;
   McapOptions mcap;
+  FoxgloveOptions foxglove;
 };
 
 void add_output_options(CLI::App& cmd, OutputOptions& o);

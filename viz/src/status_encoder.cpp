@@ -79,8 +79,8 @@ void StatusEncoder::note_position(const PositionPacket& packet) {
 }
 
 std::span<const std::byte> StatusEncoder::encode(const PipelineStats& s) {
-  double rate_hz = 0.0;
-  if (last_elapsed_s_ >= 0.0 && s.elapsed_s > last_elapsed_s_) {
+  double rate_hz = 0.0;  // since the previous call (the first: since the start)
+  if (s.elapsed_s > last_elapsed_s_ && s.frames_delivered >= last_delivered_) {
     rate_hz = static_cast<double>(s.frames_delivered - last_delivered_) /
               (s.elapsed_s - last_elapsed_s_);
   }

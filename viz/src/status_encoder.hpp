@@ -25,7 +25,7 @@ class StatusEncoder {
   PositionPacket position_{};
   bool have_position_ = false;
   std::uint64_t last_delivered_ = 0;
-  double last_elapsed_s_ = -1.0;
+  double last_elapsed_s_ = 0.0;
   std::string text_;
 };
 
