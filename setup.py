@@ -4,6 +4,7 @@ No download: CMake, a C++20 compiler, pybind11 and the libraries of scripts/setu
 installed. CMake runs in build-pip/ (kept between builds; ccache is used when installed).
 """
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -39,5 +40,12 @@ class CMakeBuild(build_ext):
         shutil.copyfile(built, target)
 
 
-setup(ext_modules=[CMakeExtension("vlpground._core")], cmdclass={"build_ext": CMakeBuild},
+def project_version() -> str:
+    """The version of `project(vlpground VERSION x.y.z ...)`: one place for it."""
+    text = (ROOT / "CMakeLists.txt").read_text()
+    return re.search(r"project\(vlpground\s+VERSION\s+([0-9.]+)", text).group(1)
+
+
+setup(version=project_version(), ext_modules=[CMakeExtension("vlpground._core")],
+      cmdclass={"build_ext": CMakeBuild},
       options={"build": {"build_base": "build-pip/setuptools"}})

@@ -192,9 +192,11 @@ int run_pipeline(RunRequest request) {
   }
   pipeline->wait();
   signals.finish();
+  const PipelineStats final_stats = pipeline->stats();
   for (std::size_t i = 0; i < sinks.size(); ++i) {
     if (working[i] == nullptr) continue;  // failed: its error is already recorded
     try {
+      sinks[i]->on_stats(final_stats);  // the final counters (a recording keeps them)
       sinks[i]->finish();
     } catch (const std::exception& e) {
       sink_errors.record(e.what());

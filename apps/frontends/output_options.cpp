@@ -10,6 +10,7 @@ void add_output_options(CLI::App& cmd, OutputOptions& o) {
   add_png_options(cmd, o.png);
   add_mcap_options(cmd, o.mcap);
   add_foxglove_options(cmd, o.foxglove);
+  add_ros2_options(cmd, o.ros2);
 }
 
 namespace {
@@ -60,6 +61,8 @@ std::vector<std::unique_ptr<FrameSink>> make_sinks(const OutputOptions& o,
   add_sink(sinks, "--mcap", o.mcap.path, [&] { return make_mcap_sink(o.mcap, config); });
   add_sink(sinks, "--foxglove", o.foxglove.listen,
            [&] { return make_foxglove_sink(o.foxglove, config); });
+  add_sink(sinks, "--ros2", describe_ros2_destination(o.ros2),
+           [&] { return make_ros2_sink(o.ros2, config); });
   return sinks;
 }
 

@@ -12,6 +12,7 @@
 #include "frontends/mcap_frontend.hpp"
 #include "frontends/pcd_frontend.hpp"
 #include "frontends/png_frontend.hpp"
+#include "frontends/ros2_frontend.hpp"
 
 namespace vlpground::cli {
 
@@ -21,6 +22,7 @@ struct OutputOptions {
   PngOptions png;
   McapOptions mcap;
   FoxgloveOptions foxglove;
+  Ros2Options ros2;
 };
 
 void add_output_options(CLI::App& cmd, OutputOptions& o);

@@ -4,6 +4,7 @@
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "Compiled core of vlpground (VLP-16 decoding and ground detection).";
+  m.attr("__version__") = VLPGROUND_VERSION;  // the CMake project's version
   vlpground::python::bind_detector(m);
   vlpground::python::bind_frame(m);
   vlpground::python::bind_reader(m);

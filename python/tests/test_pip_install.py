@@ -36,6 +36,8 @@ def test_pip_installs_the_package_offline(tmp_path):
         [str(python), "-c",
          "import sys, vlpground, vlpground.batch; "
          "assert vlpground.__file__.startswith(sys.prefix), vlpground.__file__; "
+         "import importlib.metadata as md; "
+         "assert md.version('vlpground') == vlpground.__version__, md.version('vlpground'); "
          f"print(sum(1 for _ in vlpground.read_pcap({str(PCAPS / 'urban_demo.pcap')!r})))"],
         capture_output=True, text=True, timeout=60, cwd=tmp_path, env={"PATH": "/usr/bin:/bin"})
     assert check.returncode == 0, check.stderr

@@ -7,6 +7,7 @@ from typing import Iterator, List, Optional, Sequence, Tuple
 import numpy as np
 import numpy.typing as npt
 
+__version__: str
 POINT_FIELDS: Tuple[str, ...]
 SCENES: List[str]
 

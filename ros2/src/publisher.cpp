@@ -3,10 +3,13 @@
 // never waits for DDS.
 #include "vlpground/ros2/publisher.hpp"
 
+#include <pthread.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <condition_variable>
+#include <csignal>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -23,6 +26,25 @@ constexpr int kNone = -1;
 constexpr outputs::CloudKind kKinds[3] = {outputs::CloudKind::organized,
                                           outputs::CloudKind::ground_only,
                                           outputs::CloudKind::obstacle_only};
+
+// Threads inherit their creator's signal mask: while this guard lives, the threads created
+// (Cyclone DDS's and the publisher thread) get every asynchronous signal blocked, so SIGINT
+// and SIGTERM reach the application's own handling instead of killing it from a DDS thread.
+class BlockAsyncSignals {
+ public:
+  BlockAsyncSignals() {
+    sigset_t all;
+    sigfillset(&all);
+    for (const int sync : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGTRAP, SIGABRT}) sigdelset(&all, sync);
+    pthread_sigmask(SIG_BLOCK, &all, &old_);
+  }
+  ~BlockAsyncSignals() { pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
+  BlockAsyncSignals(const BlockAsyncSignals&) = delete;
+  BlockAsyncSignals& operator=(const BlockAsyncSignals&) = delete;
+
+ private:
+  sigset_t old_{};
+};
 
 struct Slot {
   std::array<std::vector<std::uint8_t>, 3> bytes;  // per topic (unused topics stay empty)
@@ -78,6 +100,7 @@ struct Ros2Publisher::Impl {
       if (ready == kNone) return;  // stopping with nothing left
       writing = ready;
       ready = kNone;
+      idle.notify_all();  // a publish() waiting under WhenBusy::wait may go on
       Slot& slot = slots[static_cast<std::size_t>(writing)];
       lock.unlock();
       bool ok = true;
@@ -110,6 +133,7 @@ struct Ros2Publisher::Impl {
 
 Ros2Publisher::Ros2Publisher(const Ros2Config& config) {
   config.validate();
+  const BlockAsyncSignals in_created_threads;
   impl_ = std::make_unique<Impl>(config);
 }
 
@@ -122,9 +146,12 @@ void Ros2Publisher::publish(const Frame& frame, const GroundResult& ground) {
   Impl& m = *impl_;
   int slot;
   {
-    std::lock_guard lock(m.mutex);
+    std::unique_lock lock(m.mutex);
     if (m.finished) throw std::logic_error("Ros2Publisher::publish after finish()");
     ++m.counts.frames_offered;
+    if (m.config.when_busy == WhenBusy::wait) {
+      m.idle.wait(lock, [&m] { return m.ready == kNone; });
+    }
     slot = m.free_slot();
   }
   // The thread touches only the `writing` and `ready` slots: this one is ours.

@@ -220,13 +220,13 @@ TEST_CASE("help documents every command") {
   CHECK(one_line(bad.err));
 }
 
-TEST_CASE("--version prints the project version") {
+TEST_CASE("vlpground --version prints the project version") {
   const auto r = run_cli({kCli, "--version"});
   CHECK(r.code == 0);
   CHECK(r.out == std::string("vlpground ") + VLPGROUND_VERSION + "\n");
 }
 
-TEST_CASE("replay --config FILE.yaml sets every option; the command line wins") {
+TEST_CASE("replay --config FILE.yaml sets every option, the command line wins") {
   const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
   VLPGROUND_REQUIRE_SHARED(pcap);
   const auto dir = test::temp_dir("cli_config");

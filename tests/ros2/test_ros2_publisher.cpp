@@ -1,6 +1,13 @@
 // Ros2Publisher against an in-process subscriber written with the generated types only.
+#include <pthread.h>
+
 #include <catch2/catch.hpp>
+#include <csignal>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
 
 #include "../outputs/labelled_frame.hpp"
 #include "allocation_counter.hpp"
@@ -163,4 +170,62 @@ TEST_CASE("publish() allocates nothing after warm-up and never waits for a subsc
   CHECK(stats.frames_published + stats.frames_skipped == kFrames + 1);
   CHECK(stats.write_errors == 0);
   CHECK_THROWS_AS(publisher.publish(in.frame, in.ground), std::logic_error);
+}
+
+TEST_CASE("The publisher's threads (DDS's included) leave SIGINT and SIGTERM to the application") {
+  auto config = config_for("/vlpground/signals");
+  const auto tid_of = [](const std::filesystem::path& task) { return task.filename().string(); };
+  std::set<std::string> before;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
+    before.insert(tid_of(task.path()));
+  }
+  // The creating thread leaves both signals unblocked (threads would inherit that)...
+  sigset_t wanted;
+  sigemptyset(&wanted);
+  sigaddset(&wanted, SIGINT);
+  sigaddset(&wanted, SIGTERM);
+  sigset_t old;
+  REQUIRE(pthread_sigmask(SIG_UNBLOCK, &wanted, &old) == 0);
+  ros2::Ros2Publisher publisher(config);
+  // ... and still does afterwards.
+  sigset_t now;
+  REQUIRE(pthread_sigmask(SIG_SETMASK, &old, &now) == 0);
+  CHECK(sigismember(&now, SIGINT) == 0);
+  CHECK(sigismember(&now, SIGTERM) == 0);
+  int new_threads = 0;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
+    if (before.count(tid_of(task.path())) != 0) continue;
+    std::ifstream status(task.path() / "status");
+    std::string line;
+    while (std::getline(status, line)) {
+      if (line.rfind("SigBlk:", 0) != 0) continue;
+      const unsigned long long blocked = std::stoull(line.substr(7), nullptr, 16);
+      INFO("thread " << tid_of(task.path()) << " " << line);
+      CHECK(((blocked >> (SIGINT - 1)) & 1ULL) == 1ULL);
+      CHECK(((blocked >> (SIGTERM - 1)) & 1ULL) == 1ULL);
+      ++new_threads;
+    }
+  }
+  CHECK(new_threads >= 2);  // the publisher thread and Cyclone's own
+}
+
+TEST_CASE("WhenBusy::wait loses no frame to a reliable subscriber") {
+  auto config = config_for("/vlpground/every_frame");
+  config.when_busy = ros2::WhenBusy::wait;
+  ros2::Ros2Publisher publisher(config);
+  CloudReader reader(config.domain_id, "rt/vlpground/every_frame", ReaderQos::reliable);
+  REQUIRE(publisher.wait_for_subscribers(1, kTimeoutMs));
+  constexpr int kFrames = 30;
+  for (int k = 0; k < kFrames; ++k) {
+    test::LabelledTestFrame in(40 + k, ReturnMode::strongest, k * 100'000'000LL);
+    publisher.publish(in.frame, in.ground);
+  }
+  REQUIRE(publisher.finish(kTimeoutMs));
+  CHECK(publisher.stats().frames_skipped == 0);
+  CHECK(publisher.stats().frames_published == kFrames);
+  for (int k = 0; k < kFrames; ++k) {
+    ReceivedCloud cloud;
+    REQUIRE(reader.take(cloud, kTimeoutMs));
+    CHECK(cloud.width == static_cast<std::uint32_t>(40 + k));  // in order, none missing
+  }
 }

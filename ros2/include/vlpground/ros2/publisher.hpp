@@ -6,10 +6,14 @@
 // and returns; a publisher thread hands the newest encoded frame to DDS. A slow or absent
 // subscriber never blocks the caller: when the thread is still busy with an earlier frame,
 // a newer one replaces the frame waiting to be sent (counted in Ros2Stats::frames_skipped).
-// No heap allocation per frame once the slots have grown to the frame size.
+// Replays that must not lose a frame choose WhenBusy::wait instead. No heap allocation per
+// frame once the slots have grown to the frame size.
 //
 // The DDS network configuration is Cyclone DDS's own: the CYCLONEDDS_URI environment
 // variable (interfaces, multicast, peers); without it Cyclone's defaults apply.
+//
+// The threads it starts (Cyclone DDS's and its own) block asynchronous signals (SIGINT,
+// SIGTERM, ...), whatever the creating thread's mask.
 //
 // Thread-safety: publish() from one thread at a time; stats(), wait_for_subscribers() and
 // finish() from any thread.
@@ -29,6 +33,12 @@ enum class QosProfile : std::uint8_t {
   sensor_data,  // BEST_EFFORT, keep-last 5 (rclcpp::SensorDataQoS)
 };
 
+/// What publish() does when the previous frame is still waiting for the publisher thread.
+enum class WhenBusy : std::uint8_t {
+  replace_waiting,  // never wait: the newer frame replaces it (live sensors)
+  wait,             // wait until the thread took it: no frame lost (replay as fast as possible)
+};
+
 struct Ros2Config {
   std::string topic = "/vlpground/points";  // organized cloud (ROS 2 name)
   std::string ground_topic;                 // dense ground-only cloud; empty = not published
@@ -36,6 +46,7 @@ struct Ros2Config {
   std::string frame_id = "velodyne";        // header.frame_id
   std::uint32_t domain_id = 0;              // ROS_DOMAIN_ID
   QosProfile qos = QosProfile::reliable;
+  WhenBusy when_busy = WhenBusy::replace_waiting;
   int capacity_columns = kDefaultFrameCapacity;  // slots are sized for frames this wide
   int reliable_block_ms = 100;  // reliable only: how long the publisher thread may wait for a
                                 // full writer history before that frame is given up
