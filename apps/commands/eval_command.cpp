@@ -37,11 +37,16 @@ class EvalCommand : public Command {
   int run() override {
     const std::filesystem::path pcap_path = pcap_path_;
     apply_log_level(log_level_);
+    check_input_file("capture", pcap_path_);
+    check_input_file("--labels", labels_path_);
+    if (!config_.decoder.calibration_file.empty()) {
+      check_input_file("--calibration", config_.decoder.calibration_file);
+    }
     PipelineConfig& config = config_;
     const double radius = radius_;
     PcapSourceConfig pcap;
     pcap.path = pcap_path.string();
-    const CaptureProbe probe = probe_capture(pcap, 400);
+    const CaptureProbe probe = probe_capture(pcap, 0);
     if (!probe.error.empty()) {
       std::fprintf(stderr, "vlpground eval: %s\n", probe.error.c_str());
       return kExitFailure;
@@ -52,6 +57,7 @@ class EvalCommand : public Command {
       return kExitFailure;
     }
     const auto sim_json = std::filesystem::path(pcap_path).replace_extension(".json");
+    eval::check_labels_match(probe.counters, labels_path_, sim_json);
     if (extrinsics_->count() == 0 && std::filesystem::exists(sim_json)) {
       config.detector.extrinsics = eval::load_sim_extrinsics(sim_json);
     }

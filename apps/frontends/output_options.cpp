@@ -1,5 +1,6 @@
 #include "frontends/output_options.hpp"
 
+#include <filesystem>
 #include <stdexcept>
 
 namespace vlpground::cli {
@@ -51,6 +52,38 @@ void add_sink(std::vector<std::unique_ptr<FrameSink>>& sinks, const char* option
 }
 
 }  // namespace
+
+namespace {
+
+std::string with_name_in_file(const std::string& path, const std::string& name,
+                              const char* extension) {
+  if (path.empty()) return path;
+  const std::filesystem::path p(path);
+  const std::string ext = p.has_extension() ? p.extension().string() : extension;
+  return (p.parent_path() / (p.stem().string() + "." + name + ext)).string();
+}
+
+std::string with_name_in_dir(const std::string& dir, const std::string& name) {
+  return dir.empty() ? dir : (std::filesystem::path(dir) / name).string();
+}
+
+}  // namespace
+
+OutputOptions outputs_for_sensor(const OutputOptions& o, const std::string& name) {
+  OutputOptions s = o;
+  s.csv.path = with_name_in_file(o.csv.path, name, ".csv");
+  s.pcd.dir = with_name_in_dir(o.pcd.dir, name);
+  s.png.dir = with_name_in_dir(o.png.dir, name);
+  s.mcap.path = with_name_in_file(o.mcap.path, name, ".mcap");
+#if VLPGROUND_WITH_ROS2
+  for (std::string* topic : {&s.ros2.config.topic, &s.ros2.config.ground_topic,
+                             &s.ros2.config.obstacle_topic}) {
+    if (!topic->empty()) *topic += "/" + name;
+  }
+  s.ros2.config.frame_id += "_" + name;
+#endif
+  return s;
+}
 
 std::vector<std::unique_ptr<FrameSink>> make_sinks(const OutputOptions& o,
                                                    const PipelineConfig& config) {

@@ -27,6 +27,11 @@ struct OutputOptions {
 
 void add_output_options(CLI::App& cmd, OutputOptions& o);
 
+/// The outputs of one of several sensors: files get ".NAME" before their extension
+/// (returns.csv -> returns.front.csv), folders a NAME subfolder (png/ -> png/front/), ROS 2
+/// topics a "/NAME" suffix and the frame id a "_NAME" suffix.
+OutputOptions outputs_for_sensor(const OutputOptions& o, const std::string& name);
+
 /// The requested sinks, in option order. Throws std::runtime_error (one line) when one
 /// cannot be opened.
 std::vector<std::unique_ptr<FrameSink>> make_sinks(const OutputOptions& o,

@@ -13,35 +13,22 @@
 #include <sstream>
 
 #include "child_process.hpp"
+#include "cli_helpers.hpp"
 #include "test_data.hpp"
 #include "vlpground/driver/packet_source.hpp"
 
 using namespace vlpground;
+using test::free_udp_port;
+using test::one_line;
+using test::read_lines;
 using test::run_cli;
+using test::split;
 
 namespace {
 
 const std::string kCli = VLPGROUND_CLI;
 const std::string kHeader =
     "frame,laser_id,ring,return,timestamp_us,azimuth_deg,distance_m,x,y,z,intensity,ground";
-
-std::vector<std::string> read_lines(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::vector<std::string> lines;
-  for (std::string l; std::getline(in, l);) lines.push_back(l);
-  return lines;
-}
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string f; std::getline(ss, f, ',');) out.push_back(f);
-  return out;
-}
-
-bool one_line(const std::string& s) {
-  return !s.empty() && s.back() == '\n' && s.find('\n') == s.size() - 1;
-}
 
 struct PcapFacts {
   std::uint64_t returns = 0;   // distances != 0 over all data packets
@@ -71,18 +58,6 @@ PcapFacts pcap_facts(const std::filesystem::path& path) {
     }
   }
   return f;
-}
-
-std::uint16_t free_udp_port() {
-  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  close(fd);
-  return ntohs(a.sin_port);
 }
 
 }  // namespace
