@@ -10,6 +10,7 @@ void add_output_options(CLI::App& cmd, OutputOptions& o) {
   add_pcd_options(cmd, o.pcd);
   add_png_options(cmd, o.png);
   add_mcap_options(cmd, o.mcap);
+  add_foxglove_options(cmd, o.foxglove);
   add_ros2_options(cmd, o.ros2);
 }
 
@@ -24,6 +25,7 @@ class NamedSink : public FrameSink {
     named([&] { sink_->write(f); });
   }
   void on_stats(const PipelineStats& s) override { sink_->on_stats(s); }
+  void on_position(const PositionPacket& p) override { sink_->on_position(p); }
   void finish() override {
     named([&] { sink_->finish(); });
   }
@@ -90,6 +92,8 @@ std::vector<std::unique_ptr<FrameSink>> make_sinks(const OutputOptions& o,
   add_sink(sinks, "--pcd", o.pcd.dir, [&] { return make_pcd_sink(o.pcd, config); });
   add_sink(sinks, "--png", o.png.dir, [&] { return make_png_sink(o.png, config); });
   add_sink(sinks, "--mcap", o.mcap.path, [&] { return make_mcap_sink(o.mcap, config); });
+  add_sink(sinks, "--foxglove", o.foxglove.listen,
+           [&] { return make_foxglove_sink(o.foxglove, config); });
   add_sink(sinks, "--ros2", describe_ros2_destination(o.ros2),
            [&] { return make_ros2_sink(o.ros2, config); });
   return sinks;

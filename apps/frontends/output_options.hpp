@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "frontends/csv_frontend.hpp"
+#include "frontends/foxglove_frontend.hpp"
 #include "frontends/frame_sink.hpp"
 #include "frontends/mcap_frontend.hpp"
 #include "frontends/pcd_frontend.hpp"
@@ -20,6 +21,7 @@ struct OutputOptions {
   PcdOptions pcd;
   PngOptions png;
   McapOptions mcap;
+  FoxgloveOptions foxglove;
   Ros2Options ros2;
 };
 
