@@ -115,6 +115,7 @@ class SinkSet {
   void on_stats(const PipelineStats& stats) {
     for (auto& sink : sinks_) sink->on_stats(stats);
   }
+  /// On the acquisition thread.
   void on_position(const PositionPacket& packet) {
     for (auto& sink : sinks_) sink->on_position(packet);
   }
