@@ -121,6 +121,9 @@ const std::vector<OptionSpec>& detector_option_specs() {
       {"--min-sensor-height", true,
        "M  ground lies at least this far under the sensor (default 0.5; 0 for a sensor on a "
        "floor or desk)"},
+      {"--terrain-refinement", true,
+       "on|off  tangent method: follow curved terrain with cells (default on); off = the "
+       "paper's four planes alone"},
       {"--log-level", true, "L  trace|debug|info|warn|error|off (default warn)"},
       {"--help", false, "show this help"},
   };
@@ -151,6 +154,10 @@ void apply_common_options(const Args& args, PipelineConfig& config) {
   config.detector.min_sensor_height_m =
       args.number("--min-sensor-height", config.detector.min_sensor_height_m, 0.0,
                   config.detector.max_sensor_height_m - 0.01);
+  const std::string refinement = args.text("--terrain-refinement", "on");
+  if (refinement != "on" && refinement != "off")
+    throw UsageError("--terrain-refinement must be on or off, got '" + refinement + "'");
+  config.detector.terrain_refinement = refinement == "on";
   config.decoder.calibration_file = args.text("--calibration", "");
   if (args.has("--model")) {
     const std::string m = args.text("--model", "");
