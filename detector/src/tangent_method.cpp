@@ -273,6 +273,8 @@ class TangentMethod final : public Method {
     p.min_sensor_height_m = static_cast<float>(cfg_.min_sensor_height_m);
     p.max_sensor_height_m = static_cast<float>(cfg_.max_sensor_height_m);
     p.min_nz = std::cos(static_cast<float>(cfg_.max_tilt_deg) * kDegToRad);
+    p.label_up_m = label_up_;
+    p.label_down_m = label_down_;
     // Around the vehicle: out to 1.5 x where the steepest ring meets the ground under the
     // mounting height (10 m for a VLP-16 at 1.8 m, 15 m for a Puck Hi-Res), at least 10 m.
     const float steepest = *std::max_element(ring_slopes_.begin(), ring_slopes_.end());

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace vlpground::detail {
@@ -27,11 +28,15 @@ constexpr float kLevel1Share = 0.8f;      // level 1 kept under the sensor with 
 constexpr float kRidgeShare = 0.1f;    // gradient ridge: this share of a spread cell's moment
 constexpr float kRidgeFloor_m2 = 1.f;  //   plus this (a cell crossed by one ring)
 constexpr float kSoftEdge_m = 1.f;
+constexpr float kExplainedShare = 0.9f;  // a segment's band holds this share of its low returns
+constexpr float kPlausibleBelow_m = 3.f;   // low returns counted from this far under level 1
+constexpr float kPlausibleAbove_m = 3.f;   //   to this far over it
 constexpr int kCellTrials = 24;        // planes sampled per cell by search_cell
 constexpr float kCellMinArea_m2 = 0.5f;
 constexpr float kBelow_m = 0.3f;       // as the paper's below penalty (below_distance_m)
 constexpr int kBelowPenalty = 2;
 constexpr int kSearchRings = 3;
+constexpr float kSingleRingOffset_m = 0.25f;  // fit_layer: largest step on a single ring
 constexpr float kFewRingsFrom = 2.f;  // beyond this many near_m, two rings (the reach of the rings)
 constexpr int kSeedRings = 3;          // vehicle_seed: rings among the inliers        // search_cell: rings among the inliers
 constexpr float kLayerBorderStep_m = 0.5f;  // ... for a correction of the reference
@@ -171,6 +176,41 @@ bool TerrainCells::near_vehicle(int cell) const {
   return dx * dx + dy * dy < p_.blind_m * p_.blind_m;
 }
 
+// "Where one plane does not explain a segment": per level-1 segment, the lowest usable
+// return of each bin that could be ground (from kPlausibleBelow_m under the plane to
+// kPlausibleAbove_m over it; roofs and canopies are higher) and how many of them lie in the
+// plane's label band.
+void TerrainCells::explained_segments(const Candidates& cand,
+                                      const std::vector<std::int32_t>& bin_slot,
+                                      const SegmentPlanes& level1) {
+  int low[4] = {0, 0, 0, 0}, in_band[4] = {0, 0, 0, 0};
+  HeightPlane planes[4];
+  float nz[4];
+  for (int s = 0; s < 4; ++s) {
+    planes[s] = HeightPlane::from(level1.plane[s]);
+    nz[s] = Normal(planes[s]).z;
+  }
+  for (int b = 0; b < p_.bins * p_.bins; ++b) {
+    const std::int32_t slot = bin_slot[idx(b)];
+    if (slot < 0) continue;
+    Index lowest = 0;
+    float z_low = std::numeric_limits<float>::infinity();
+    for (std::int32_t k = cand.start[idx(slot)]; k < cand.start[idx(slot) + 1]; ++k) {
+      const bool lower = cand.tz[idx(k)] != kNoTangentZ && cand.z[idx(k)] < z_low;
+      lowest = lower ? idx(k) : lowest;
+      z_low = lower ? cand.z[idx(k)] : z_low;
+    }
+    if (z_low == std::numeric_limits<float>::infinity()) continue;
+    const int s = segment_at(cand.x[lowest], cand.y[lowest], level1.cx, level1.cy);
+    const float h = (z_low - planes[s].at(cand.x[lowest], cand.y[lowest])) * nz[s];
+    if (h < -kPlausibleBelow_m || h > kPlausibleAbove_m) continue;
+    ++low[s];
+    in_band[s] += (h < p_.label_up_m) & (h > -p_.label_down_m) ? 1 : 0;
+  }
+  for (int s = 0; s < 4; ++s)
+    segment_explained_[s] = static_cast<float>(in_band[s]) >= kExplainedShare * static_cast<float>(low[s]);
+}
+
 bool TerrainCells::close(int cell, const HeightPlane& a, const HeightPlane& b) const {
   const Fit f(p_, side_, cell);
   const float hx = 0.5f * static_cast<float>(f.c1 - f.c0) * p_.bin_m;
@@ -205,6 +245,7 @@ bool TerrainCells::search_cell(int cell, const Candidates& cand,
   const float side_m = static_cast<float>(p_.cell_bins) * p_.bin_m;
   const float reach = 0.5f * side_m * (absolute(p_.search_gradient_change) * 1.5f);
   cell_pts_.clear();
+  cell_pts_.reserve(cand.x.size());
   f.each(cand, bin_slot, p_.bins, [&](Index k) {
     const float r = cand.z[k] - ref.at(cand.x[k], cand.y[k]);
     if (r > -p_.window_down_m - reach && r < p_.window_up_m + reach && cand.tz[k] != kNoTangentZ)
@@ -293,13 +334,17 @@ bool TerrainCells::fit_layer(int cell, const Candidates& cand,
       static_cast<double>(-p_.window_down_m + (static_cast<float>(first) + 0.5f * kModeBins) *
                                                   kHistBin_m),
       0.0, 0.0};
+  std::uint32_t rings = 0;
   for (int pass = 0; pass < 2; ++pass) {
     CorrectionFit fit;
+    rings = 0;
     f.each(cand, bin_slot, p_.bins, [&](Index k) {
       const double u = cand.x[k] - f.xc, v = cand.y[k] - f.yc;
       const double r = cand.z[k] - ref.at(cand.x[k], cand.y[k]);
-      if (std::fabs(r - (corr[0] + corr[1] * u + corr[2] * v)) < p_.eps && usable(k))
+      if (std::fabs(r - (corr[0] + corr[1] * u + corr[2] * v)) < p_.eps && usable(k)) {
         fit.add(u, v, r);
+        rings |= 1u << (cand.ring[k] & 31u);
+      }
     });
     if (fit.n < p_.min_points) return false;
     const double ridge = kRidgeShare * fit.n * side_m * side_m / 12.0 + kRidgeFloor_m2;
@@ -308,7 +353,11 @@ bool TerrainCells::fit_layer(int cell, const Candidates& cand,
   // 3. Checks scaled with the cell: a bounded step and bend from the reference.
   const float a = static_cast<float>(corr[0]), b = static_cast<float>(corr[1]),
               c = static_cast<float>(corr[2]);
-  if (absolute(a) > p_.offset_m + p_.offset_per_m * side_m) return false;
+  // One ring's line may lie on a fence or a wall as well as on the ground: it may lower the
+  // reference (nothing lies under the ground) but only nudge it up.
+  const float offset_limit = p_.offset_m + p_.offset_per_m * side_m;
+  const float up_limit = std::popcount(rings) < 2 ? kSingleRingOffset_m : offset_limit;
+  if (a > up_limit || a < -offset_limit) return false;
   if (absolute(b) > p_.gradient_change || absolute(c) > p_.gradient_change) return false;
   out = {ref.c + a - b * f.xc - c * f.yc, ref.gx + b, ref.gy + c};
   return absolute(out.gx) <= p_.max_gradient && absolute(out.gy) <= p_.max_gradient;
@@ -353,6 +402,7 @@ HeightPlane TerrainCells::vehicle_seed(const Candidates& cand,
                                        const std::vector<std::int32_t>& bin_slot,
                                        const Plane& level1) {
   near_.clear();
+  near_.reserve(cand.x.size());  // grows with the largest frame only
   const int reach = static_cast<int>(std::ceil(p_.near_m / p_.bin_m));
   const int sc = std::clamp(static_cast<int>((p_.sensor_x - p_.x_lo) / p_.bin_m), 0, p_.bins - 1);
   const int sr = std::clamp(static_cast<int>((p_.sensor_y - p_.y_lo) / p_.bin_m), 0, p_.bins - 1);
@@ -416,10 +466,15 @@ void TerrainCells::fit(const Candidates& cand, const std::vector<std::int32_t>& 
   auto level1_at = [&](float x, float y) {
     return HeightPlane::from(level1.plane[segment_at(x, y, level1.cx, level1.cy)]);
   };
+  // A cell keeps its level-1 plane (and the paper's labels) where that plane explains the
+  // ground: in a segment whose low returns lie in its label band, or where the cell's
+  // surface is close to it.
+  explained_segments(cand, bin_slot, level1);
   auto settle = [&](int cell, const HeightPlane& s, bool fitted) {
     const Fit f(p_, side_, cell);
     const HeightPlane own = level1_at(f.xc, f.yc);
-    const bool keep = close(cell, s, own);
+    const bool keep = segment_explained_[segment_at(f.xc, f.yc, level1.cx, level1.cy)] ||
+                      close(cell, s, own);
     surface_[idx(cell)] = keep ? own : s;
     state_[idx(cell)] = keep ? CellState::level1 : fitted ? CellState::refined : CellState::inherited;
     replace_[idx(cell)] = keep ? 0 : 1;

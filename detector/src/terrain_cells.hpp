@@ -41,6 +41,7 @@ struct CellParams {
   float search_gradient_change = 0.5f;  // the same bound for the in-cell hypothesis search
   int min_points = 8;
   float keep_m = 0.1f;  // a fit this close to the level-1 plane at every corner keeps it
+  float label_up_m = 0.18f, label_down_m = 0.5f;  // the level-1 label band
   // The surface under the sensor: min..max under it, found among the returns within
   // near_m when the level-1 plane explains less than half of them (embankments).
   float sensor_x = 0, sensor_y = 0, sensor_z = 0;
@@ -97,6 +98,8 @@ class TerrainCells {
   bool search_cell(int cell, const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
                    const HeightPlane& ref, HeightPlane& out);
   [[nodiscard]] bool close(int cell, const HeightPlane& a, const HeightPlane& b) const;
+  void explained_segments(const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
+                          const SegmentPlanes& level1);
   [[nodiscard]] int cell_of(float x, float y) const;
   [[nodiscard]] bool near_vehicle(int cell) const;
 
@@ -105,6 +108,7 @@ class TerrainCells {
   std::vector<HeightPlane> surface_;
   std::vector<CellState> state_;
   std::vector<std::uint8_t> replace_;
+  bool segment_explained_[4] = {false, false, false, false};
   std::vector<std::int32_t> queue_, near_, cell_pts_;
 };
 
