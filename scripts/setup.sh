@@ -10,7 +10,7 @@ packages=(
   libcli11-dev ccache
   # Round 2 front-ends: ROS 2 over DDS, Foxglove/MCAP, Python.
   cyclonedds-dev cyclonedds-tools
-  libprotobuf-dev protobuf-compiler libwebsocketpp-dev libboost-system-dev libzstd-dev liblz4-dev
+  libprotobuf-dev protobuf-compiler libwebsocketpp-dev libboost-system-dev libzstd-dev liblz4-dev zlib1g-dev
   pybind11-dev python3-dev python3-numpy python3-distributed python3-pytest python3-matplotlib
   python3-pip python3-setuptools python3-wheel
   chromium

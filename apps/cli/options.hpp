@@ -1,11 +1,10 @@
-// Minimal command-line parsing for the subcommands: `--name value` / `--name=value` options
-// declared up front, positionals, and typed getters that throw UsageError (one line) on bad
-// input. No third-party dependency.
+// The command line of `vlpground`, one CLI11 parser: the option groups shared by several
+// subcommands, bound straight to the config structs so each default is stated once (in the
+// struct) and printed by --help.
 #pragma once
 
-#include <cstdint>
+#include <CLI/CLI.hpp>
 #include <map>
-#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -14,56 +13,57 @@
 
 namespace vlpground::cli {
 
-/// A malformed command line: printed as one line, exit code 2.
+/// Exit codes (docs/cli.md): 0 success, 1 runtime failure, 2 usage error.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitUsage = 2;
+
+/// A command line that parses but does not make sense (checked after parsing): one line,
+/// exit code 2. Name the option in the message.
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-struct OptionSpec {
-  const char* name;  // "--port"
-  bool takes_value;
-  const char* help;  // "N  UDP data port (default 2368)"
-};
+/// The sign convention, stated once for --help, README and docs.
+inline constexpr const char* kFrameConvention =
+    "Frames: x forward, y left, z up; roll, pitch, yaw right-handed about x, y, z "
+    "(pitch > 0 = nose down, roll > 0 = right side down).";
 
-class Args {
- public:
-  /// Parses argv[1..]; argv[0] is the subcommand name. Throws UsageError.
-  Args(int argc, char** argv, const std::vector<OptionSpec>& specs);
+/// An option taking one of `choices` (names -> values) into `target`; its default is the
+/// name of `target`'s current value. Use it for every enum option (typed choices).
+template <typename T>
+CLI::Option* add_choice_option(CLI::App& cmd, const std::string& name, T& target,
+                               const std::map<std::string, T>& choices,
+                               const std::string& description) {
+  std::vector<std::string> names;
+  std::string current;
+  for (const auto& [key, value] : choices) {
+    names.push_back(key);
+    if (value == target) current = key;
+  }
+  return cmd
+      .add_option_function<std::string>(
+          name, [&target, choices](const std::string& v) { target = choices.at(v); }, description)
+      ->check(CLI::IsMember(names))
+      ->default_str(current);
+}
 
-  [[nodiscard]] bool has(const std::string& name) const { return values_.count(name) != 0; }
-  [[nodiscard]] const std::vector<std::string>& positionals() const { return positionals_; }
-  [[nodiscard]] std::string text(const std::string& name, const std::string& fallback) const;
-  [[nodiscard]] double number(const std::string& name, double fallback, double lo, double hi) const;
-  [[nodiscard]] std::int64_t integer(const std::string& name, std::int64_t fallback,
-                                     std::int64_t lo, std::int64_t hi) const;
+/// --method, --calibration, --extrinsics, --cut-angle, --model, --seed, --min-sensor-height.
+void add_detector_options(CLI::App& cmd, PipelineConfig& config);
+/// --frames N (0 = all).
+void add_frames_option(CLI::App& cmd, std::uint64_t& frames);
+/// --frames, --queue.
+void add_run_limit_options(CLI::App& cmd, PipelineConfig& config);
+/// --log-level into `level` (validated against spdlog's names).
+void add_log_level_option(CLI::App& cmd, std::string& level);
+/// Throws std::runtime_error "ROLE PATH: is a directory" (no such file, permission denied)
+/// unless `path` is a readable file. ROLE is what the user typed: "--calibration", "capture".
+void check_input_file(const std::string& role, const std::string& path);
 
- private:
-  std::map<std::string, std::string> values_;
-  std::vector<std::string> positionals_;
-};
-
-/// "  --name VALUE  help" lines for `--help`.
-std::string describe_options(const std::vector<OptionSpec>& specs);
-
-/// Options shared by replay, live and eval: detector, decoder, assembler settings.
-const std::vector<OptionSpec>& detector_option_specs();
-/// Options of the outputs (replay and live).
-const std::vector<OptionSpec>& output_option_specs();
-
-/// Fills decoder / assembler / detector / pipeline settings from the common options.
-void apply_common_options(const Args& args, PipelineConfig& config);
-
-/// Where the results go.
-struct OutputOptions {
-  std::string csv_path;
-  std::string pcd_dir;
-  std::string png_dir;
-  bool json = false;
-  std::string log_level = "warn";
-};
-OutputOptions output_options(const Args& args);
-
-/// Applies --log-level to spdlog (throws UsageError for an unknown level).
+/// Applies --log-level to spdlog.
 void apply_log_level(const std::string& level);
+
+/// "x,y,z,roll,pitch,yaw" (spaces allowed) -> Extrinsics; throws CLI::ValidationError.
+Extrinsics parse_extrinsics(const std::vector<std::string>& values);
 
 }  // namespace vlpground::cli

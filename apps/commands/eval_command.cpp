@@ -1,6 +1,8 @@
 // `vlpground eval FILE.pcap --labels FILE.labels [options]`: precision, recall, F1.
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "cli/capture_probe.hpp"
@@ -10,54 +12,90 @@
 
 namespace vlpground::cli {
 
-int run_eval(int argc, char** argv) {
-  std::vector<OptionSpec> specs = {
-      {"--labels", true, "FILE  ground truth (one byte per return slot, see data README)"},
-      {"--radius", true, "M  score returns within this horizontal range (default 40)"},
-      {"--json", false, "print JSON instead of a table"},
-  };
-  specs.insert(specs.end(), detector_option_specs().begin(), detector_option_specs().end());
-  try {
-    const Args args(argc, argv, specs);
-    if (args.has("--help")) {
-      std::printf(
-          "usage: vlpground eval FILE.pcap --labels FILE.labels [options]\n"
-          "Scores ground labels (ground = positive class) against ground truth.\n"
-          "Without --extrinsics, the mounting pose is read from STEM.json beside the\n"
-          "capture when present (simulator captures).\noptions:\n%s",
-          describe_options(specs).c_str());
-      return 0;
+namespace {
+
+// The labels (one byte per return slot, 384 per data packet) and the simulator's JSON must
+// describe this capture; labels of another capture would score a meaningless figure.
+void check_labels_match(const SourceCounters& capture, const std::string& labels_path,
+                        const std::filesystem::path& sim_json) {
+  std::ifstream labels(labels_path, std::ios::binary);  // any file, /dev/null included
+  labels.ignore(std::numeric_limits<std::streamsize>::max());
+  const auto bytes = static_cast<std::uint64_t>(labels.gcount());
+  const std::uint64_t labelled = bytes / eval::kSlotsPerPacket;
+  if (bytes % eval::kSlotsPerPacket != 0 || labelled != capture.data_packets) {
+    throw std::runtime_error("--labels " + labels_path + ": labels cover " +
+                             std::to_string(labelled) + " packets (" + std::to_string(bytes) +
+                             " bytes), the capture has " + std::to_string(capture.data_packets));
+  }
+  if (!std::filesystem::exists(sim_json)) return;
+  std::ifstream in(sim_json);
+  const auto j = nlohmann::json::parse(in, nullptr, false);
+  if (!j.is_object() || !j.contains("packets") || !j["packets"].is_number_unsigned()) return;
+  // The simulator counts data packets; older captures counted position packets too.
+  const auto described = j["packets"].get<std::uint64_t>();
+  if (described != capture.data_packets &&
+      described != capture.data_packets + capture.position_packets) {
+    throw std::runtime_error(sim_json.string() + " describes " + std::to_string(described) +
+                             " packets, the capture has " + std::to_string(capture.data_packets));
+  }
+}
+
+class EvalCommand : public Command {
+ public:
+  explicit EvalCommand(CLI::App& app) {
+    CLI::App* cmd = app.add_subcommand(
+        "eval",
+        "score ground labels (ground = positive class) against ground truth. Without "
+        "--extrinsics, the mounting pose is read from STEM.json beside the capture when "
+        "present (simulator captures)");
+    cmd->add_option("capture", pcap_path_, "the capture")->type_name("FILE.pcap")->required();
+    cmd->add_option("--labels", labels_path_,
+                    "ground truth: one byte per return slot (docs/data-format.md)")
+        ->type_name("FILE")
+        ->required();
+    cmd->add_option("--radius", radius_, "score returns within this horizontal range (m)")
+        ->check(CLI::Range(0.1, 1000.0));
+    cmd->add_flag("--json", json_, "print JSON instead of a table");
+    add_frames_option(*cmd, config_.max_frames);
+    add_detector_options(*cmd, config_);
+    add_log_level_option(*cmd, log_level_);
+    extrinsics_ = cmd->get_option("--extrinsics");
+  }
+
+  int run() override {
+    const std::filesystem::path pcap_path = pcap_path_;
+    apply_log_level(log_level_);
+    check_input_file("capture", pcap_path_);
+    check_input_file("--labels", labels_path_);
+    if (!config_.decoder.calibration_file.empty()) {
+      check_input_file("--calibration", config_.decoder.calibration_file);
     }
-    if (args.positionals().size() != 1) throw UsageError("expects exactly one FILE.pcap");
-    if (!args.has("--labels")) throw UsageError("--labels FILE is required");
-    const std::filesystem::path pcap_path = args.positionals()[0];
-    PipelineConfig config;
-    apply_common_options(args, config);
-    apply_log_level(args.text("--log-level", "warn"));
-    const double radius = args.number("--radius", 40.0, 0.1, 1000.0);
+    PipelineConfig& config = config_;
+    const double radius = radius_;
     PcapSourceConfig pcap;
     pcap.path = pcap_path.string();
-    const CaptureProbe probe = probe_capture(pcap, 400);
+    const CaptureProbe probe = probe_capture(pcap, 0);
     if (!probe.error.empty()) {
       std::fprintf(stderr, "vlpground eval: %s\n", probe.error.c_str());
-      return 1;
+      return kExitFailure;
     }
     if (!probe.is_vlp16()) {
       std::fprintf(stderr, "vlpground eval: %s: no VLP-16 packets (%s)\n", pcap.path.c_str(),
                    probe.verdict().c_str());
-      return 1;
+      return kExitFailure;
     }
     const auto sim_json = std::filesystem::path(pcap_path).replace_extension(".json");
-    if (!args.has("--extrinsics") && std::filesystem::exists(sim_json)) {
+    check_labels_match(probe.counters, labels_path_, sim_json);
+    if (extrinsics_->count() == 0 && std::filesystem::exists(sim_json)) {
       config.detector.extrinsics = eval::load_sim_extrinsics(sim_json);
     }
     eval::CaptureScoreOptions options;
     options.score.radius_m = radius;
     options.max_frames = static_cast<int>(config.max_frames);
     const eval::CaptureScore result =
-        eval::score_capture(pcap_path, args.text("--labels", ""), config.detector, options);
+        eval::score_capture(pcap_path, labels_path_, config.detector, options);
     const eval::Confusion& c = result.score.all;
-    if (args.has("--json")) {
+    if (json_) {
       nlohmann::json j = {
           {"capture", result.capture},
           {"method", result.method},
@@ -84,14 +122,22 @@ int run_eval(int argc, char** argv) {
                   static_cast<unsigned long long>(c.tp), static_cast<unsigned long long>(c.fp),
                   static_cast<unsigned long long>(c.fn), static_cast<unsigned long long>(c.tn));
     }
-    return 0;
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "vlpground eval: %s (see --help)\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "vlpground eval: %s\n", e.what());
-    return 1;
+    return kExitOk;
   }
+
+ private:
+  std::string pcap_path_, labels_path_;
+  double radius_ = eval::ScoreConfig{}.radius_m;
+  bool json_ = false;
+  std::string log_level_ = "warn";
+  PipelineConfig config_;
+  CLI::Option* extrinsics_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> add_eval_command(CLI::App& app) {
+  return std::make_unique<EvalCommand>(app);
 }
 
 }  // namespace vlpground::cli

@@ -84,34 +84,26 @@ const char* mode_name(std::uint8_t byte) {
   }
 }
 
-}  // namespace
+class InfoCommand : public Command {
+ public:
+  explicit InfoCommand(CLI::App& app) {
+    CLI::App* cmd = app.add_subcommand(
+        "info",
+        "describe a capture: model, return mode, rpm, rotations, duration, packet counts, GPS/PPS");
+    cmd->add_option("capture", pcap_.path, "the capture")->type_name("FILE.pcap")->required();
+    cmd->add_flag("--json", json_, "print JSON instead of a table");
+    cmd->add_option("--port", pcap_.data_port, "UDP data port in the capture")
+        ->check(CLI::Range(1, 65535));
+    cmd->add_option("--position-port", pcap_.position_port, "UDP position port in the capture")
+        ->check(CLI::Range(1, 65535));
+  }
 
-int run_info(int argc, char** argv) {
-  const std::vector<OptionSpec> specs = {
-      {"--json", false, "print JSON instead of a table"},
-      {"--port", true, "N  UDP data port in the capture (default 2368)"},
-      {"--position-port", true, "N  UDP position port in the capture (default 8308)"},
-      {"--help", false, "show this help"},
-  };
-  try {
-    const Args args(argc, argv, specs);
-    if (args.has("--help")) {
-      std::printf(
-          "usage: vlpground info FILE.pcap [options]\nDescribes a capture: model, return "
-          "mode, rpm, rotations, duration, packet counts, GPS/PPS.\noptions:\n%s",
-          describe_options(specs).c_str());
-      return 0;
-    }
-    if (args.positionals().size() != 1) throw UsageError("expects exactly one FILE.pcap");
-    PcapSourceConfig pcap;
-    pcap.path = args.positionals()[0];
-    pcap.data_port = static_cast<std::uint16_t>(args.integer("--port", 2368, 1, 65535));
-    pcap.position_port =
-        static_cast<std::uint16_t>(args.integer("--position-port", 8308, 1, 65535));
+  int run() override {
+    const PcapSourceConfig& pcap = pcap_;
     const CaptureProbe probe = probe_capture(pcap, 0);
     if (!probe.error.empty()) {
       std::fprintf(stderr, "vlpground info: %s\n", probe.error.c_str());
-      return 1;
+      return kExitFailure;
     }
     const bool vlp16 = probe.is_vlp16();
     CaptureFacts facts;
@@ -129,7 +121,7 @@ int run_info(int argc, char** argv) {
     const std::string model =
         vlp16 ? probe.family() : probe.family() + " - not a VLP-16 (" + probe.verdict() + ")";
 
-    if (args.has("--json")) {
+    if (json_) {
       nlohmann::json j = {
           {"file", pcap.path},
           {"model", probe.family()},
@@ -179,16 +171,20 @@ int run_info(int argc, char** argv) {
     if (!vlp16) {
       std::fprintf(stderr, "vlpground info: %s: not a VLP-16 capture (%s)\n", pcap.path.c_str(),
                    probe.verdict().c_str());
-      return 1;
+      return kExitFailure;
     }
-    return 0;
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "vlpground info: %s (see --help)\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "vlpground info: %s\n", e.what());
-    return 1;
+    return kExitOk;
   }
+
+ private:
+  PcapSourceConfig pcap_;
+  bool json_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> add_info_command(CLI::App& app) {
+  return std::make_unique<InfoCommand>(app);
 }
 
 }  // namespace vlpground::cli

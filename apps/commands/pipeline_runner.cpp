@@ -14,10 +14,9 @@
 #include <mutex>
 #include <thread>
 
+#include "cli/options.hpp"
 #include "cli/report.hpp"
-#include "writers/csv_writer.hpp"
-#include "writers/pcd_writer.hpp"
-#include "writers/png_writer.hpp"
+#include "cli/yaml_config.hpp"
 
 namespace vlpground::cli {
 namespace {
@@ -75,19 +74,22 @@ class StopOnSignal {
   std::atomic<bool> interrupted_{false};
 };
 
-struct Writers {
-  std::unique_ptr<CsvWriter> csv;
-  std::unique_ptr<PcdWriter> pcd;
-  std::unique_ptr<PngWriter> png;
-};
+// The first error of any sink; the run stops on it.
+class SinkErrors {
+ public:
+  void record(const std::string& message) {
+    std::lock_guard lock(mutex_);
+    if (first_.empty()) first_ = message;
+  }
+  [[nodiscard]] std::string first() const {
+    std::lock_guard lock(mutex_);
+    return first_;
+  }
 
-Writers open_writers(const OutputOptions& o, double view_radius_m) {
-  Writers w;
-  if (!o.csv_path.empty()) w.csv = std::make_unique<CsvWriter>(o.csv_path);
-  if (!o.pcd_dir.empty()) w.pcd = std::make_unique<PcdWriter>(o.pcd_dir);
-  if (!o.png_dir.empty()) w.png = std::make_unique<PngWriter>(o.png_dir, view_radius_m);
-  return w;
-}
+ private:
+  mutable std::mutex mutex_;
+  std::string first_;
+};
 
 std::string describe_input(const RunRequest& r) {
   if (r.config.pcap) return "pcap " + r.config.pcap->path;
@@ -98,12 +100,16 @@ std::string describe_input(const RunRequest& r) {
 
 int run_pipeline(RunRequest request) {
   const std::string prefix = "vlpground " + request.command + ": ";
-  Writers writers;
+  apply_log_level(request.log_level);
+  if (request.json && request.outputs.csv.path == "-") {
+    throw UsageError("--json and --csv - both write to stdout; give --csv a file");
+  }
+  std::vector<std::unique_ptr<FrameSink>> sinks;
   try {
-    writers = open_writers(request.outputs, request.config.detector.fit_radius_m);
+    sinks = make_sinks(request.outputs, request.config);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s%s\n", prefix.c_str(), e.what());
-    return 1;
+    return kExitFailure;
   }
   StopOnSignal signals;  // before the pipeline creates its threads
   std::unique_ptr<Pipeline> pipeline;
@@ -111,18 +117,30 @@ int run_pipeline(RunRequest request) {
     pipeline = std::make_unique<Pipeline>(request.config);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s%s\n", prefix.c_str(), e.what());
-    return 2;
+    return kExitUsage;
   }
-  const bool terminal = isatty(STDOUT_FILENO) != 0 && !request.outputs.json;
-  const bool frame_lines = !terminal && !request.outputs.json;
+  // stdout carries only the requested output: the CSV with --csv -, else the console.
+  std::FILE* const console = request.outputs.csv.path == "-" ? stderr : stdout;
+  const bool terminal = isatty(fileno(console)) != 0 && !request.json;
+  const bool frame_lines = !terminal && !request.json && console == stdout;
+  SinkErrors sink_errors;
+  std::vector<FrameSink*> working;  // sinks that have not failed (detection thread only)
+  for (auto& s : sinks) working.push_back(s.get());
   std::atomic<std::uint64_t> warnings{0};
   std::mutex gps_mutex;
   std::string gps;
 
   pipeline->on_frame([&](const LabelledFrame& f) {
-    if (writers.csv) writers.csv->write(f.frame, f.ground);
-    if (writers.pcd) writers.pcd->write(f.frame, f.ground);
-    if (writers.png) writers.png->write(f.frame, f.ground);
+    for (auto*& sink : working) {
+      if (sink == nullptr) continue;
+      try {
+        sink->write(f);
+      } catch (const std::exception& e) {
+        sink_errors.record(e.what());
+        sink = nullptr;
+        pipeline->stop();
+      }
+    }
     if (frame_lines) print_frame_line(stdout, f);
   });
   pipeline->on_telemetry([&](const PositionPacket& p) {
@@ -156,36 +174,71 @@ int run_pipeline(RunRequest request) {
     pipeline->start();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s%s\n", prefix.c_str(), e.what());
-    return 1;
+    return kExitFailure;
   }
   if (!request.config.pcap) {
     std::fprintf(stderr, "%slistening on %s\n", prefix.c_str(), describe_input(request).c_str());
   }
   signals.watch(*pipeline, request.duration_s);
+  using Clock = std::chrono::steady_clock;
+  auto next_stats = Clock::now() + std::chrono::seconds(1);
+  while (!pipeline->wait_for(100)) {
+    if (terminal) print_progress(console, pipeline->stats());
+    if (Clock::now() >= next_stats) {
+      next_stats += std::chrono::seconds(1);
+      const PipelineStats now = pipeline->stats();
+      for (auto& sink : sinks) sink->on_stats(now);
+    }
+  }
   if (terminal) {
-    while (!pipeline->wait_for(100)) print_progress(stdout, pipeline->stats());
-    print_progress(stdout, pipeline->stats());
-    std::fputc('\n', stdout);
+    print_progress(console, pipeline->stats());
+    std::fputc('\n', console);
   }
   pipeline->wait();
   signals.finish();
+  const PipelineStats final_stats = pipeline->stats();
+  for (std::size_t i = 0; i < sinks.size(); ++i) {
+    if (working[i] == nullptr) continue;  // failed: its error is already recorded
+    try {
+      sinks[i]->on_stats(final_stats);  // the final counters (a recording keeps them)
+      sinks[i]->finish();
+    } catch (const std::exception& e) {
+      sink_errors.record(e.what());
+    }
+  }
 
   const PipelineStats stats = pipeline->stats();
   SummaryContext context{request.command, describe_input(request), request.config.detector.method,
                          gps, warnings.load()};
-  if (request.outputs.json) {
+  if (request.json) {
     std::printf("%s\n", summary_json(stats, context).c_str());
   } else {
-    print_summary_table(stdout, stats, context);
+    print_summary_table(console, stats, context);
   }
   std::fflush(stdout);
+  if (const std::string error = sink_errors.first(); !error.empty()) {
+    std::fprintf(stderr, "%s%s\n", prefix.c_str(), error.c_str());
+    return kExitFailure;
+  }
   if (stats.frames_delivered == 0 && stats.capture.source.data_packets > 0 &&
       !signals.interrupted()) {
     std::fprintf(stderr, "%sno frame decoded from %llu data packets\n", prefix.c_str(),
                  static_cast<unsigned long long>(stats.capture.source.data_packets));
-    return 1;
+    return kExitFailure;
   }
-  return 0;
+  return kExitOk;
+}
+
+void add_run_options(CLI::App& cmd, RunRequest& request) {
+  add_run_limit_options(cmd, request.config);
+  add_output_options(cmd, request.outputs);
+  cmd.add_flag("--json", request.json,
+               "print a machine-readable JSON summary instead of the table (stdout carries "
+               "only that document)")
+      ->group("Outputs");
+  add_detector_options(cmd, request.config);
+  add_log_level_option(cmd, request.log_level);
+  add_config_file_option(cmd);
 }
 
 }  // namespace vlpground::cli

@@ -9,67 +9,56 @@
 namespace vlpground::cli {
 namespace {
 
-std::vector<OptionSpec> replay_specs() {
-  std::vector<OptionSpec> specs = {
-      {"--rate", true, "R  replay speed: 0 = as fast as possible (default), 1 = real time"},
-      {"--loop", false, "replay the file again and again (until Ctrl-C or --frames)"},
-      {"--port", true, "N  UDP data port in the capture (default 2368)"},
-      {"--position-port", true, "N  UDP position port in the capture (default 8308)"},
-      {"--sensor-ip", true, "IP  only packets from this sensor address"},
-  };
-  for (const auto* group : {&output_option_specs(), &detector_option_specs()}) {
-    specs.insert(specs.end(), group->begin(), group->end());
+class ReplayCommand : public Command {
+ public:
+  explicit ReplayCommand(CLI::App& app) {
+    request_.command = "replay";
+    PcapSourceConfig& pcap = pcap_;
+    CLI::App* cmd = app.add_subcommand(
+        "replay", "decode a capture (pcap or pcapng) and label ground in every rotation");
+    cmd->add_option("capture", pcap.path, "the capture")->type_name("FILE.pcap")->required();
+    cmd->add_option("--rate", pcap.rate, "replay speed: 0 = as fast as possible, 1 = real time")
+        ->check(CLI::Range(0.0, 1000.0));
+    cmd->add_flag("--loop", pcap.loop,
+                  "replay the file again and again (until Ctrl-C or --frames)");
+    cmd->add_option("--port", pcap.data_port, "UDP data port in the capture")
+        ->check(CLI::Range(1, 65535));
+    cmd->add_option("--position-port", pcap.position_port, "UDP position port in the capture")
+        ->check(CLI::Range(1, 65535));
+    cmd->add_option("--sensor-ip", pcap.sensor_address,
+                    "only packets from this sensor address (empty: any)")
+        ->type_name("IP");
+    add_run_options(*cmd, request_);
   }
-  return specs;
-}
+
+  int run() override {
+    request_.config.pcap = pcap_;
+    check_input_file("capture", pcap_.path);
+    if (!request_.config.decoder.calibration_file.empty()) {
+      check_input_file("--calibration", request_.config.decoder.calibration_file);
+    }
+    const CaptureProbe probe = probe_capture(pcap_, 400);
+    if (!probe.error.empty()) {
+      std::fprintf(stderr, "vlpground replay: %s\n", probe.error.c_str());
+      return kExitFailure;
+    }
+    if (!probe.is_vlp16()) {
+      std::fprintf(stderr, "vlpground replay: %s: no VLP-16 packets (%s)\n", pcap_.path.c_str(),
+                   probe.verdict().c_str());
+      return kExitFailure;
+    }
+    return run_pipeline(std::move(request_));
+  }
+
+ private:
+  PcapSourceConfig pcap_;
+  RunRequest request_;
+};
 
 }  // namespace
 
-int run_replay(int argc, char** argv) {
-  const auto specs = replay_specs();
-  try {
-    const Args args(argc, argv, specs);
-    if (args.has("--help")) {
-      std::printf(
-          "usage: vlpground replay FILE.pcap [options]\n"
-          "Decodes a VLP-16 capture (pcap or pcapng) and labels ground in every "
-          "rotation.\noptions:\n%s",
-          describe_options(specs).c_str());
-      return 0;
-    }
-    if (args.positionals().size() != 1) throw UsageError("expects exactly one FILE.pcap");
-    RunRequest request;
-    request.command = "replay";
-    PcapSourceConfig pcap;
-    pcap.path = args.positionals()[0];
-    pcap.rate = args.number("--rate", 0.0, 0.0, 1000.0);
-    pcap.loop = args.has("--loop");
-    pcap.data_port = static_cast<std::uint16_t>(args.integer("--port", 2368, 1, 65535));
-    pcap.position_port =
-        static_cast<std::uint16_t>(args.integer("--position-port", 8308, 1, 65535));
-    pcap.sensor_address = args.text("--sensor-ip", "");
-    request.config.pcap = pcap;
-    apply_common_options(args, request.config);
-    request.outputs = output_options(args);
-    apply_log_level(request.outputs.log_level);
-    const CaptureProbe probe = probe_capture(pcap, 400);
-    if (!probe.error.empty()) {
-      std::fprintf(stderr, "vlpground replay: %s\n", probe.error.c_str());
-      return 1;
-    }
-    if (!probe.is_vlp16()) {
-      std::fprintf(stderr, "vlpground replay: %s: no VLP-16 packets (%s)\n", pcap.path.c_str(),
-                   probe.verdict().c_str());
-      return 1;
-    }
-    return run_pipeline(std::move(request));
-  } catch (const UsageError& e) {
-    std::fprintf(stderr, "vlpground replay: %s (see --help)\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "vlpground replay: %s\n", e.what());
-    return 1;
-  }
+std::unique_ptr<Command> add_replay_command(CLI::App& app) {
+  return std::make_unique<ReplayCommand>(app);
 }
 
 }  // namespace vlpground::cli

@@ -4,8 +4,10 @@
 #include <charconv>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 
 #include "writers/label_access.hpp"
+#include "writers/output_path.hpp"
 
 namespace vlpground::cli {
 namespace {
@@ -30,20 +32,47 @@ struct Out {
 }  // namespace
 
 CsvWriter::CsvWriter(const std::string& path) : path_(path) {
-  file_ = std::fopen(path.c_str(), "wb");
-  if (file_ == nullptr) {
-    throw std::runtime_error("cannot create " + path + ": " + std::strerror(errno));
+  if (path == "-") {
+    file_ = stdout;
+  } else {
+    create_parent_directories(path);
+    file_ = std::fopen(path.c_str(), "wb");
+    if (file_ == nullptr) {
+      throw std::runtime_error("cannot create " + path + ": " + std::strerror(errno));
+    }
   }
   std::fprintf(file_, "%s\n", kCsvHeader);
-  std::fflush(file_);
+  flush();
   buffer_.resize(std::size_t{1} << 22);
 }
 
 CsvWriter::~CsvWriter() {
-  if (file_ != nullptr) std::fclose(file_);
+  if (file_ != nullptr && file_ != stdout) std::fclose(file_);
+}
+
+void CsvWriter::flush() {
+  if (std::fflush(file_) != 0 || std::ferror(file_) != 0) {
+    throw std::runtime_error("cannot write " + path_ + ": " + std::strerror(errno));
+  }
+}
+
+void CsvWriter::close() {
+  if (file_ == nullptr) return;
+  std::FILE* f = std::exchange(file_, nullptr);
+  if (f == stdout) {
+    if (std::fflush(f) != 0 || std::ferror(f) != 0) {
+      throw std::runtime_error("cannot write to stdout: " + std::string(std::strerror(errno)));
+    }
+    return;
+  }
+  const bool failed = std::ferror(f) != 0;
+  if (std::fclose(f) != 0 || failed) {
+    throw std::runtime_error("cannot write " + path_ + ": " + std::strerror(errno));
+  }
 }
 
 void CsvWriter::write(const Frame& frame, const GroundResult& ground) {
+  if (file_ == nullptr) throw std::logic_error("CsvWriter::write after close");
   Out out{buffer_.data()};
   const char* const limit = buffer_.data() + buffer_.size() - kMaxRowBytes;
   const auto flush_buffer = [&] {
@@ -104,7 +133,7 @@ void CsvWriter::write(const Frame& frame, const GroundResult& ground) {
     }
   }
   flush_buffer();
-  std::fflush(file_);
+  flush();
 }
 
 }  // namespace vlpground::cli

@@ -18,7 +18,8 @@ inline constexpr const char* kCsvHeader =
 
 class CsvWriter {
  public:
-  /// Creates (truncates) `path` and writes the header. Throws std::runtime_error.
+  /// Creates (truncates) `path`, and its missing parent directories, and writes the header;
+  /// "-" writes to stdout. Throws std::runtime_error.
   explicit CsvWriter(const std::string& path);
   ~CsvWriter();
   CsvWriter(const CsvWriter&) = delete;
@@ -26,8 +27,12 @@ class CsvWriter {
 
   /// Appends the frame's returns (column order, then laser id, then return 0/1) and flushes.
   void write(const Frame& frame, const GroundResult& ground);
+  /// Flushes and closes the file; throws std::runtime_error when that fails. Idempotent.
+  void close();
 
  private:
+  void flush();
+
   std::FILE* file_ = nullptr;
   std::string path_;
   std::vector<char> buffer_;

@@ -39,6 +39,15 @@ inline bool same_address(const IpAddress& wanted, const IpAddress& from) {
   return true;
 }
 
+/// The public, plain form of a datagram's sender.
+inline SourceAddress to_source_address(const UdpDatagram& datagram) {
+  SourceAddress address;
+  address.version = datagram.source.version;
+  address.bytes = datagram.source.bytes;
+  address.port = datagram.source_port;
+  return address;
+}
+
 struct PacketFilter {
   std::uint16_t data_port = 2368;
   std::uint16_t position_port = 8308;  // 0 = none

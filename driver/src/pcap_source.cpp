@@ -165,6 +165,7 @@ class PcapSource final : public PacketSource {
     ++packets_this_pass_;
     pending_.bytes = datagram.payload;
     pending_.kind = *kind;
+    pending_.source = driver_detail::to_source_address(datagram);
     pending_.receive_ns = stamp_ns + loop_offset_ns_;
     has_pending_ = true;
     return true;

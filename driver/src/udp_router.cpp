@@ -159,6 +159,7 @@ class Router final : public UdpRouter {
     out.sensor = r->sensor;
     out.packet.bytes = received.payload;
     out.packet.kind = r->kind;
+    out.packet.source = {received.source.version, received.source.bytes, received.source_port};
     out.packet.receive_ns = received.receive_ns;
     out.packet.steady_receive_ns = received.steady_receive_ns;
     return true;

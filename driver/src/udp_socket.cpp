@@ -1,5 +1,6 @@
 #include "udp_socket.hpp"
 
+#include <arpa/inet.h>
 #include <sys/eventfd.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -84,6 +85,20 @@ IpAddress source_address(const sockaddr_storage& from) {
     std::memcpy(address.bytes.data(), &v6.sin6_addr, 16);
   }
   return address;
+}
+
+std::uint16_t source_port(const sockaddr_storage& from) {
+  in_port_t port = 0;
+  if (from.ss_family == AF_INET) {
+    sockaddr_in v4{};
+    std::memcpy(&v4, &from, sizeof v4);
+    port = v4.sin_port;
+  } else if (from.ss_family == AF_INET6) {
+    sockaddr_in6 v6{};
+    std::memcpy(&v6, &from, sizeof v6);
+    port = v6.sin6_port;
+  }
+  return ntohs(port);
 }
 
 }  // namespace
@@ -211,6 +226,7 @@ ReadResult UdpSocket::read(ReceivedDatagram& out) {
   out.steady_receive_ns = steady_now_ns();
   out.oversize = (message.msg_flags & MSG_TRUNC) != 0;
   out.source = source_address(from);
+  out.source_port = source_port(from);
   out.payload = {buffer_.data(), static_cast<std::size_t>(received)};
   return ReadResult::datagram;
 }

@@ -34,6 +34,7 @@ struct UdpSocketOptions {
 /// What one recvmsg() returned.
 struct ReceivedDatagram {
   IpAddress source;
+  std::uint16_t source_port = 0;
   std::span<const std::uint8_t> payload;  // into the socket's buffer, valid until next read
   bool oversize = false;                  // cut by the kernel (larger than kMaxDatagramBytes)
   std::int64_t receive_ns = 0;            // kernel stamp, else host realtime clock

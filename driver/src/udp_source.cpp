@@ -101,12 +101,14 @@ class UdpSource final : public PacketSource {
     }
     driver_detail::UdpDatagram datagram;
     datagram.source = received.source;
+    datagram.source_port = received.source_port;
     datagram.destination_port = socket.port();
     datagram.payload = received.payload;
     const auto kind = filter_.accept(datagram, counters_);
     if (!kind) return Receive::skipped;
     out.bytes = datagram.payload;
     out.kind = *kind;
+    out.source = driver_detail::to_source_address(datagram);
     out.receive_ns = received.receive_ns;
     out.steady_receive_ns = received.steady_receive_ns;
     return Receive::packet;

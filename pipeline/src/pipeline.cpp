@@ -9,7 +9,7 @@
 #include <thread>
 #include <utility>
 
-#include "frame_queue.hpp"
+#include "frame_pool.hpp"
 #include "latency_histogram.hpp"
 
 namespace vlpground {
@@ -40,10 +40,18 @@ std::uint64_t count_returns(const Frame& f) {
 
 }  // namespace
 
+LabelledFrame::LabelledFrame(int capacity_columns) : frame(capacity_columns) {
+  ground.reserve(frame.stride());  // the detector sizes results by the frame's row stride
+}
+
 void PipelineConfig::validate() const {
   if (queue_frames < 1 || queue_frames > 256) {
     throw std::invalid_argument("PipelineConfig.queue_frames must be in [1, 256], got " +
                                 std::to_string(queue_frames));
+  }
+  if (lease_frames < 0 || lease_frames > 256) {
+    throw std::invalid_argument("PipelineConfig.lease_frames must be in [0, 256], got " +
+                                std::to_string(lease_frames));
   }
   if (read_timeout_ms < 1 || read_timeout_ms > 60'000) {
     throw std::invalid_argument("PipelineConfig.read_timeout_ms must be in [1, 60000], got " +
@@ -60,23 +68,27 @@ void PipelineConfig::validate() const {
 }
 
 struct Pipeline::Impl {
+  using Slot = detail::FramePool::Slot;
+
   explicit Impl(PipelineConfig c)
       : config(std::move(c)),
-        queue(config.queue_frames, config.assembler.capacity_columns),
-        detector(config.detector) {
-    result.reserve(config.assembler.capacity_columns);
-  }
+        pool(std::make_shared<detail::FramePool>(
+            config.queue_frames + 2 + config.lease_frames, config.queue_frames,
+            config.assembler.capacity_columns)),
+        detector(config.detector) {}
 
   PipelineConfig config;
   std::unique_ptr<PacketSource> injected_source;
   FrameCallback frame_cb;
+  FrameLeaseCallback lease_cb;
   TelemetryCallback telemetry_cb;
   DiagnosticsCallback diagnostics_cb;
 
   std::unique_ptr<CaptureReader> reader;
-  detail::FrameQueue queue;
+  std::shared_ptr<detail::FramePool> pool;  // shared with the leases
   GroundDetector detector;
-  GroundResult result;
+  bool pull = false;  // no frame callback: frames wait for next()
+  std::uint64_t next_index = 0;  // delivered_index of the next hand-out (stats_mutex)
   bool live = false;
   bool started = false;
   std::atomic<bool> stop_requested{false};
@@ -116,7 +128,7 @@ struct Pipeline::Impl {
 
   void request_stop() {
     stop_requested = true;
-    queue.stop();
+    pool->stop();
     if (reader) reader->request_stop();
   }
 
@@ -149,31 +161,33 @@ struct Pipeline::Impl {
       diagnose(DiagnosticKind::source_error, "reader failed: unknown exception");
     }
     update_capture_counters();
-    queue.close();
+    pool->close_detection();
     mark_done(reader_done);
   }
 
   void read_frames() {
     const bool drop = drop_oldest();
-    Frame* filling = queue.first_free();
+    Slot* filling = pool->first_free();
     while (!stop_requested) {
-      const ReadStatus status = reader->next(*filling, config.read_timeout_ms);
+      Frame& frame = detail::FramePool::frame(filling).frame;
+      const ReadStatus status = reader->next(frame, config.read_timeout_ms);
       update_capture_counters();
       if (status == ReadStatus::end_of_input || status == ReadStatus::stopped) return;
       if (status != ReadStatus::frame) continue;
-      bool dropped = false;
-      filling = queue.push(filling, drop, dropped);
+      int dropped = 0;
+      filling = pool->publish(filling, drop, dropped);
       std::uint64_t total_dropped = 0;
       {
         // Counted once queued, so a reader of the stats never sees a frame that is neither
         // in the queue nor counted as dropped.
         std::lock_guard lock(stats_mutex);
         ++counters.frames_assembled;
-        total_dropped = dropped ? ++counters.frames_dropped : counters.frames_dropped;
+        counters.frames_dropped += static_cast<std::uint64_t>(dropped);
+        total_dropped = counters.frames_dropped;
       }
-      if (dropped) {
+      if (dropped > 0) {
         diagnose(DiagnosticKind::frame_dropped,
-                 "detector behind: dropped the oldest pending frame (" +
+                 "detector or program behind: dropped the oldest pending frame (" +
                      std::to_string(total_dropped) + " dropped so far)");
       }
       if (filling == nullptr) return;  // stopped while blocked
@@ -181,12 +195,15 @@ struct Pipeline::Impl {
   }
 
   void run_detector() {
-    std::uint64_t delivered = 0;
-    while (Frame* frame = queue.pop()) {
-      deliver(*frame, delivered++);
-      queue.release(frame);
-      if (config.max_frames != 0 && delivered >= config.max_frames) request_stop();
+    while (Slot* slot = pool->pop_for_detection()) {
+      detect(detail::FramePool::frame(slot));
+      if (pull) {
+        pool->push_ready(slot);
+      } else {
+        deliver_to_callbacks(slot);
+      }
     }
+    pool->close_ready();
     {
       std::unique_lock lock(done_mutex);
       done_cv.wait(lock, [&] { return reader_done; });
@@ -199,27 +216,45 @@ struct Pipeline::Impl {
     mark_done(detector_done);
   }
 
-  void deliver(const Frame& frame, std::uint64_t index) {
+  void detect(LabelledFrame& f) {
     const std::int64_t t0 = steady_now_ns();
-    detector.detect(frame, result);
-    const std::int64_t t1 = steady_now_ns();
-    FrameTimings timings;
-    timings.detect_ms = ms_since(t0, t1);
-    const bool has_stamp = frame.meta.completed_receive_ns > 0;
-    if (has_stamp) timings.latency_ms = ms_since(frame.meta.completed_receive_ns, t1);
-    const std::uint64_t returns = count_returns(frame);
+    detector.detect(f.frame, f.ground);
+    f.timings = FrameTimings{};
+    f.timings.detect_ms = ms_since(t0, steady_now_ns());
+    f.sensor_index = config.sensor_index;
+    if (f.sensor_name != config.sensor_name) f.sensor_name = config.sensor_name;  // once per slot
+    std::lock_guard lock(stats_mutex);
+    detect_time.record(f.timings.detect_ms);
+  }
+
+  // Stamps and counts a frame as it reaches the program; returns its lease. Counting here
+  // (not at detection) keeps frames_delivered exact when ready frames are dropped.
+  FrameLease hand_out(Slot* slot) {
+    LabelledFrame& f = detail::FramePool::frame(slot);
+    const bool has_stamp = f.frame.meta.completed_receive_ns > 0;
+    if (has_stamp) f.timings.latency_ms = ms_since(f.frame.meta.completed_receive_ns, steady_now_ns());
+    const std::uint64_t returns = count_returns(f.frame);
+    bool reached_max = false;
     {
       std::lock_guard lock(stats_mutex);
-      detect_time.record(timings.detect_ms);
-      if (has_stamp) latency.record(timings.latency_ms);
+      f.delivered_index = next_index++;
+      if (has_stamp) latency.record(f.timings.latency_ms);
       ++counters.frames_delivered;
-      counters.incomplete_frames += frame.meta.complete ? 0 : 1;
+      counters.incomplete_frames += f.frame.meta.complete ? 0 : 1;
       counters.returns += returns;
-      counters.ground_returns += result.ground_returns;
+      counters.ground_returns += f.ground.ground_returns;
+      reached_max = config.max_frames != 0 && next_index >= config.max_frames;
     }
-    if (!frame_cb) return;
+    FrameLease lease = pool->lease(slot);
+    if (reached_max) request_stop();
+    return lease;
+  }
+
+  void deliver_to_callbacks(Slot* slot) {
+    const FrameLease lease = hand_out(slot);
     try {
-      frame_cb(LabelledFrame{frame, result, timings, index});
+      if (frame_cb) frame_cb(*lease);
+      if (lease_cb) lease_cb(lease);
     } catch (const std::exception& e) {
       note_callback_exception(std::string("frame callback threw: ") + e.what());
     } catch (...) {
@@ -296,6 +331,9 @@ Pipeline::~Pipeline() {
 }
 
 void Pipeline::on_frame(FrameCallback callback) { impl_->frame_cb = std::move(callback); }
+void Pipeline::on_frame_lease(FrameLeaseCallback callback) {
+  impl_->lease_cb = std::move(callback);
+}
 void Pipeline::on_telemetry(TelemetryCallback callback) {
   impl_->telemetry_cb = std::move(callback);
 }
@@ -306,6 +344,7 @@ void Pipeline::on_diagnostics(DiagnosticsCallback callback) {
 void Pipeline::start() {
   if (impl_->started) throw std::logic_error("Pipeline::start() called twice");
   impl_->started = true;
+  impl_->pull = !impl_->frame_cb && !impl_->lease_cb;
   impl_->open_reader();
   {
     std::lock_guard lock(impl_->stats_mutex);
@@ -336,6 +375,18 @@ bool Pipeline::wait_for(int timeout_ms) {
   impl_->join();
   return true;
 }
+
+FrameLease Pipeline::next(std::chrono::milliseconds timeout) {
+  if (!impl_->started) throw std::logic_error("Pipeline::next() called before start()");
+  if (!impl_->pull) {
+    throw std::logic_error("Pipeline::next() called while frames go to a frame callback");
+  }
+  Impl::Slot* slot = impl_->pool->take_ready(timeout);
+  if (slot == nullptr) return nullptr;
+  return impl_->hand_out(slot);
+}
+
+bool Pipeline::at_end() const { return impl_->started && impl_->pool->ready_drained(); }
 
 PipelineStats Pipeline::stats() const { return impl_->snapshot(); }
 

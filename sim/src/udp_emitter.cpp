@@ -160,8 +160,23 @@ void UdpStreamConfig::validate() const {
   }
 }
 
-UdpStreamStats stream_udp(const Simulator& sim, const UdpStreamConfig& config,
-                          const std::function<bool()>& should_stop) {
+struct PreparedStream::Impl {
+  std::vector<Outgoing> all;
+  std::int64_t packet_period_ns = 0;
+  std::int64_t applied_shift_ns = 0;  // stamps in `all` are shifted by this
+};
+
+PreparedStream::PreparedStream(const Simulator& sim) : impl_(std::make_unique<Impl>()) {
+  impl_->all = prepare(sim);
+  impl_->packet_period_ns = sim.packet_period_ns();
+}
+
+PreparedStream::~PreparedStream() = default;
+PreparedStream::PreparedStream(PreparedStream&&) noexcept = default;
+PreparedStream& PreparedStream::operator=(PreparedStream&&) noexcept = default;
+
+UdpStreamStats PreparedStream::play(const UdpStreamConfig& config,
+                                    const std::function<bool()>& should_stop) {
   config.validate();
   namespace ip = boost::asio::ip;
   boost::asio::io_context io;
@@ -189,21 +204,24 @@ UdpStreamStats stream_udp(const Simulator& sim, const UdpStreamConfig& config,
     }
   }
 
-  std::vector<Outgoing> all = prepare(sim);
+  std::vector<Outgoing>& all = impl_->all;
   FaultySender sender(socket, config);
   if (all.empty()) return sender.stats_;
   const std::int64_t first_ns = all.front().capture_ns;
   // One cycle lasts the span plus one packet period, so a loop continues the clock.
-  const std::int64_t cycle_ns = all.back().capture_ns - first_ns + sim.packet_period_ns();
+  const std::int64_t cycle_ns = all.back().capture_ns - first_ns + impl_->packet_period_ns;
   const auto start = std::chrono::steady_clock::now();
   for (std::int64_t cycle = 0;; ++cycle) {
-    for (Outgoing& o : all) {
+    const std::int64_t shift = cycle * cycle_ns;
+    if (shift != impl_->applied_shift_ns) {
+      for (Outgoing& o : all) restamp(o, shift);
+      impl_->applied_shift_ns = shift;
+    }
+    for (const Outgoing& o : all) {
       if (should_stop && should_stop()) {
         sender.flush();
         return sender.stats_;
       }
-      const std::int64_t shift = cycle * cycle_ns;
-      if (cycle > 0) restamp(o, shift);
       const auto due =
           start + std::chrono::nanoseconds(static_cast<std::int64_t>(
                       static_cast<double>(o.capture_ns + shift - first_ns) / config.rate));
@@ -213,6 +231,12 @@ UdpStreamStats stream_udp(const Simulator& sim, const UdpStreamConfig& config,
     sender.flush();
     if (!config.loop) return sender.stats_;
   }
+}
+
+UdpStreamStats stream_udp(const Simulator& sim, const UdpStreamConfig& config,
+                          const std::function<bool()>& should_stop) {
+  config.validate();
+  return PreparedStream(sim).play(config, should_stop);
 }
 
 }  // namespace vlpground::sim

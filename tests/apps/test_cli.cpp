@@ -13,35 +13,22 @@
 #include <sstream>
 
 #include "child_process.hpp"
+#include "cli_helpers.hpp"
 #include "test_data.hpp"
 #include "vlpground/driver/packet_source.hpp"
 
 using namespace vlpground;
+using test::free_udp_port;
+using test::one_line;
+using test::read_lines;
 using test::run_cli;
+using test::split;
 
 namespace {
 
 const std::string kCli = VLPGROUND_CLI;
 const std::string kHeader =
     "frame,laser_id,ring,return,timestamp_us,azimuth_deg,distance_m,x,y,z,intensity,ground";
-
-std::vector<std::string> read_lines(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::vector<std::string> lines;
-  for (std::string l; std::getline(in, l);) lines.push_back(l);
-  return lines;
-}
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string f; std::getline(ss, f, ',');) out.push_back(f);
-  return out;
-}
-
-bool one_line(const std::string& s) {
-  return !s.empty() && s.back() == '\n' && s.find('\n') == s.size() - 1;
-}
 
 struct PcapFacts {
   std::uint64_t returns = 0;   // distances != 0 over all data packets
@@ -71,18 +58,6 @@ PcapFacts pcap_facts(const std::filesystem::path& path) {
     }
   }
   return f;
-}
-
-std::uint16_t free_udp_port() {
-  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  close(fd);
-  return ntohs(a.sin_port);
 }
 
 }  // namespace
@@ -201,10 +176,59 @@ TEST_CASE("replay --min-sensor-height lets a sensor standing on the floor find i
 }
 
 TEST_CASE("help documents every command") {
-  for (const char* cmd : {"replay", "live", "info", "eval"}) {
+  for (const char* cmd : {"replay", "live", "info", "eval", "sim"}) {
+    INFO(cmd);
     const auto r = run_cli({kCli, cmd, "--help"});
     CHECK(r.code == 0);
-    CHECK(r.out.find("usage: vlpground") != std::string::npos);
+    CHECK(r.out.find(std::string("usage: vlpground ") + cmd) != std::string::npos);
+    const auto h = run_cli({kCli, "help", cmd});
+    CHECK(h.code == 0);
+    CHECK(h.out == r.out);
+  }
+  // Defaults come from the config structs and are printed.
+  const auto live = run_cli({kCli, "live", "--help"});
+  CHECK(live.out.find("=2368") != std::string::npos);
+  CHECK(live.out.find("=0.0.0.0") != std::string::npos);
+  CHECK(live.out.find("x forward, y left, z up") != std::string::npos);
+  const auto bad = run_cli({kCli, "help", "bogus"});
+  CHECK(bad.code == 2);
+  CHECK(one_line(bad.err));
+}
+
+TEST_CASE("vlpground --version prints the project version") {
+  const auto r = run_cli({kCli, "--version"});
+  CHECK(r.code == 0);
+  CHECK(r.out == std::string("vlpground ") + VLPGROUND_VERSION + "\n");
+}
+
+TEST_CASE("replay --config FILE.yaml sets every option, the command line wins") {
+  const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
+  VLPGROUND_REQUIRE_SHARED(pcap);
+  const auto dir = test::temp_dir("cli_config");
+  const auto yaml = dir / "run.yaml";
+  std::ofstream(yaml) << "json: true\nframes: 2\nextrinsics: [0, 0, 1.8, 0, 0, 0]\n"
+                         "csv: "
+                      << (dir / "out.csv").string() << "\n";
+  const auto delivered = [](const std::string& out) {
+    const auto at = out.find("\"delivered\":");
+    REQUIRE(at != std::string::npos);
+    return std::stoi(out.substr(at + 12));
+  };
+  const auto from_file = run_cli({kCli, "replay", pcap->string(), "--config", yaml.string()});
+  REQUIRE(from_file.code == 0);
+  CHECK(delivered(from_file.out) == 2);
+  CHECK(read_lines(dir / "out.csv").size() > 1);
+  const auto cli_wins =
+      run_cli({kCli, "replay", pcap->string(), "--config", yaml.string(), "--frames", "3"});
+  REQUIRE(cli_wins.code == 0);
+  CHECK(delivered(cli_wins.out) == 3);
+  for (const char* bad : {"bogus: 1\n", "queue: 0\n", "[1, 2]\n"}) {
+    INFO(bad);
+    std::ofstream(yaml) << bad;
+    const auto r = run_cli({kCli, "replay", pcap->string(), "--config", yaml.string()});
+    CHECK(r.code == 2);
+    CHECK(one_line(r.err));
+    CHECK(r.err.find("--config") != std::string::npos);
   }
 }
 

@@ -40,3 +40,24 @@ TEST_CASE("no heap allocation per frame in steady state (replay)") {
   REQUIRE(frames > kWarmup + 4);
   CHECK(at_last - at_warm == 0);
 }
+
+TEST_CASE("no heap allocation per frame in steady state (pull API, leases held)") {
+  constexpr int kRotations = 16;
+  PipelineConfig c;
+  c.detector.hypotheses = 40;
+  c.lease_frames = 3;
+  Pipeline p(c, std::make_unique<test::FakeSource>(kRotations * 76, false));
+  p.start();
+  // A program keeping the latest three frames (a sliding window of leases).
+  FrameLease window[3];
+  constexpr std::uint64_t kWarmup = 6;  // every pool slot used once
+  std::uint64_t frames = 0, at_warm = 0, at_last = 0;
+  while (FrameLease f = p.next(std::chrono::seconds(30))) {
+    if (!f->frame.meta.complete) continue;
+    if (f->delivered_index == kWarmup) at_warm = g_allocations.load();
+    if (f->delivered_index > kWarmup) at_last = g_allocations.load();
+    window[frames++ % 3] = std::move(f);
+  }
+  REQUIRE(frames > kWarmup + 4);
+  CHECK(at_last - at_warm == 0);
+}

@@ -12,6 +12,7 @@
 
 #include "capture_builder.hpp"
 #include "test_data.hpp"
+#include "vlpground/driver/packet_queue_source.hpp"
 #include "vlpground/driver/packet_source.hpp"
 
 namespace {
@@ -111,4 +112,25 @@ TEST_CASE("no allocation: UDP reception in steady state") {
   std::array<SourceStatus, kPackets> got{};
   CHECK(allocations_during(*source, kPackets, got) == 0);
   for (const SourceStatus s : got) CHECK(s == SourceStatus::packet);
+}
+
+TEST_CASE("no allocation: push source, push and next in steady state") {
+  PushSourceConfig config;
+  config.capacity_packets = 8;
+  PacketQueueSource q(config);
+  const Bytes payload = pattern_payload(1206, 5);
+  const auto bytes = std::as_bytes(std::span<const std::uint8_t>(payload));
+  PacketView view;
+  REQUIRE(q.push(bytes, 0, PacketPort::data) == PushResult::queued);  // warm-up
+  REQUIRE(q.next(view, 0) == SourceStatus::packet);
+  int failures = 0;
+  g_allocations = 0;
+  g_counting = true;
+  for (int i = 0; i < kPackets; ++i) {
+    failures += q.push(bytes, i, PacketPort::data) == PushResult::queued ? 0 : 1;
+    failures += q.next(view, 0) == SourceStatus::packet ? 0 : 1;
+  }
+  g_counting = false;
+  CHECK(g_allocations.load() == 0);
+  CHECK(failures == 0);
 }

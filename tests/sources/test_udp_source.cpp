@@ -124,6 +124,12 @@ TEST_CASE("udp: the sensor address filter drops other senders") {
   PacketView view;
   REQUIRE(source->next(view, kWaitMs) == SourceStatus::packet);
   CHECK(received_bytes(view) == pattern_payload(1206, 8));
+  // The sender's address travels with the packet (routing several sensors by address).
+  CHECK(view.source.version == 4);
+  CHECK(view.source.bytes[0] == 127);
+  CHECK(view.source.bytes[3] == 1);
+  CHECK(view.source.port != 0);
+  CHECK(view.source.to_string().rfind("127.0.0.1:", 0) == 0);
   CHECK(source->counters().skipped_address == 1);
   CHECK(source->counters().records == 2);
 }

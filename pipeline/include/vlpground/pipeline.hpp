@@ -1,19 +1,32 @@
-// vlpground::Pipeline: packets -> frames -> ground labels -> your callback, on two threads.
+// vlpground::Pipeline: packets -> frames -> ground labels -> your program, on two threads.
 //
 // Acquisition thread: PacketSource -> PacketDecoder -> RotationAssembler (a CaptureReader).
-// Detection thread: GroundDetector, then the frame callback. The two are joined by a bounded
-// queue of preallocated frames; nothing is allocated per frame in steady state.
+// Detection thread: GroundDetector, then delivery. The two are joined by a bounded queue of
+// preallocated frames from a pool; nothing is allocated per frame in steady state.
+//
+// Two ways to receive frames, both as LEASES (std::shared_ptr<const LabelledFrame>): the
+// frame stays valid and unchanged while a copy of its lease lives, and returns to the pool
+// when the last copy goes (no copy of the ~4 MB frame, no allocation):
+// - pull: call next(timeout) from your own thread (executors, cyclic tasks). Used when no
+//   frame callback is set before start().
+// - push: on_frame(const LabelledFrame&) (valid during the call) or on_frame_lease(lease)
+//   (keep it as long as you like), called on the detection thread.
+// A program may hold up to PipelineConfig::lease_frames frames at once without slowing the
+// pipeline. Holding more takes frames the pipeline needs: then live sources drop the oldest
+// frame waiting for delivery (counted in frames_dropped), replay waits for a lease to go.
 //
 // Backpressure (PipelineConfig::backpressure): live sources drop the OLDEST pending frame when
 // the detector falls behind (counted in PipelineStats::frames_dropped and reported through the
 // diagnostics callback); pcap replay blocks the reader instead, so no frame is lost.
 //
-// Thread-safety: start(), stop(), wait() and stats() may be called from any thread; stop() also
-// from inside a callback. wait() and the destructor must not be called from a callback.
-// The frame callback runs on the detection thread, the telemetry callback on the acquisition
-// thread, the diagnostics callback on either (calls are serialised, never concurrent).
+// Thread-safety: start(), stop(), wait(), next() and stats() may be called from any thread;
+// stop() also from inside a callback. wait() and the destructor must not be called from a
+// callback. The frame callbacks run on the detection thread, the telemetry callback on the
+// acquisition thread, the diagnostics callback on either (calls are serialised). A lease may
+// be read and released on any thread, also after the Pipeline is gone.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -46,8 +59,13 @@ struct PipelineConfig {
 
   Backpressure backpressure = Backpressure::automatic;
   int queue_frames = 4;          // pending frames between the two threads (>= 1)
+  int lease_frames = 2;          // frames the program may hold (leases, or ready for next())
   std::uint64_t max_frames = 0;  // stop after delivering this many frames; 0 = no limit
   int read_timeout_ms = 200;     // how often the reader wakes up when no packet arrives
+  // Which sensor this pipeline serves, copied onto every LabelledFrame (MultiPipeline sets
+  // them; a single-sensor program may name its sensor too).
+  std::string sensor_name;
+  std::uint32_t sensor_index = 0;
 
   /// Throws std::invalid_argument with a clear message (also validates the sub-configs).
   void validate() const;
@@ -84,14 +102,23 @@ struct FrameTimings {
   double latency_ms = 0;  // completed_receive_ns -> callback (0 when the stamp is unknown)
 };
 
-/// What the frame callback receives. References are valid only during the callback.
+/// One delivered rotation with its labels. Owned by the pipeline's pool; reached through a
+/// lease (std::shared_ptr<const LabelledFrame>) or a callback reference.
 struct LabelledFrame {
-  const Frame& frame;          // range image + per-column data + FrameMeta
-  const GroundResult& ground;  // labels, heights, the four planes, partition centre, timings
+  /// Storage for frames of `capacity_columns` (allocates; the pipeline does it once).
+  explicit LabelledFrame(int capacity_columns = kDefaultFrameCapacity);
+
+  Frame frame;          // range image + per-column data + FrameMeta
+  GroundResult ground;  // labels, heights, the four planes, partition centre, timings
   FrameTimings timings;
-  std::uint64_t delivered_index;  // 0, 1, 2, ... in delivery order (gaps in meta.sequence
-                                  // mean dropped frames)
+  std::uint64_t delivered_index = 0;  // 0, 1, 2, ... in delivery order (gaps in
+                                      // meta.sequence mean dropped frames)
+  std::string sensor_name;            // PipelineConfig::sensor_name (MultiPipeline: the
+  std::uint32_t sensor_index = 0;     //   sensor's name and index in its config)
 };
+
+/// A frame held by the program: valid and unchanged while any copy lives.
+using FrameLease = std::shared_ptr<const LabelledFrame>;
 
 enum class DiagnosticKind : std::uint8_t {
   warning,             // from the decoder / reader (once per distinct warning)
@@ -108,6 +135,7 @@ struct Diagnostic {
 };
 
 using FrameCallback = std::function<void(const LabelledFrame&)>;
+using FrameLeaseCallback = std::function<void(FrameLease)>;
 using TelemetryCallback = std::function<void(const PositionPacket&)>;
 using DiagnosticsCallback = std::function<void(const Diagnostic&)>;
 
@@ -122,8 +150,11 @@ class Pipeline {
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;
 
-  // Set callbacks before start().
+  // Set callbacks before start(). With either frame callback set, frames go to the
+  // callback(s) (on_frame first); without, to next().
   void on_frame(FrameCallback callback);
+  /// Like on_frame, with the frame's lease: keep it to use the frame after the call.
+  void on_frame_lease(FrameLeaseCallback callback);
   void on_telemetry(TelemetryCallback callback);
   void on_diagnostics(DiagnosticsCallback callback);
 
@@ -136,6 +167,13 @@ class Pipeline {
   void wait();
   /// Waits at most `timeout_ms`; returns true when the pipeline has finished.
   bool wait_for(int timeout_ms);
+
+  /// Pull API: the next labelled frame, oldest first, waiting up to `timeout`; empty on
+  /// timeout or at the end of the input (at_end() tells which). Allocation-free. Throws
+  /// std::logic_error before start() or when a frame callback is set.
+  FrameLease next(std::chrono::milliseconds timeout);
+  /// True once the input ended (or stop() was called) and next() has handed out every frame.
+  [[nodiscard]] bool at_end() const;
 
   [[nodiscard]] PipelineStats stats() const;
 

@@ -4,6 +4,7 @@
 // Thread-safety: a PacketSource is used by one thread; request_stop() may be called from any.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -13,11 +14,24 @@
 namespace vlpground {
 
 enum class PacketKind : std::uint8_t { data, position };
+/// The port a packet arrived on, as a push source's caller states it.
+using PacketPort = PacketKind;
+
+/// Sender of a packet: a plain value (no allocation per packet) for routing by address.
+struct SourceAddress {
+  std::uint8_t version = 0;              // 4 or 6; 0 = unknown (e.g. pushed without one)
+  std::array<std::uint8_t, 16> bytes{};  // IPv4 in bytes[0..3], network order
+  std::uint16_t port = 0;                // sender's UDP port (0 = unknown)
+  [[nodiscard]] bool operator==(const SourceAddress&) const = default;
+  /// "192.168.1.201:2368", "[fe80::1]:2368", "unknown" (allocates; for logs).
+  [[nodiscard]] std::string to_string() const;
+};
 
 /// A view of one UDP payload, valid until the next call to PacketSource::next().
 struct PacketView {
   std::span<const std::uint8_t> bytes;
   PacketKind kind = PacketKind::data;
+  SourceAddress source;                // sender (pcap, UDP; whatever push() was given)
   std::int64_t receive_ns = 0;         // capture timestamp (pcap) or kernel/host receive time (UDP)
   std::int64_t steady_receive_ns = 0;  // host steady clock at receipt (for latency)
 };
@@ -39,8 +53,10 @@ struct SourceCounters {
   std::uint64_t skipped_address = 0;  // filtered by sensor address
   std::uint64_t truncated = 0;        // records cut short (snaplen, truncated file)
   std::uint64_t kernel_drops = 0;     // SO_RXQ_OVFL (live)
+  std::uint64_t queue_full = 0;       // push source: packets refused because it was full
   [[nodiscard]] std::uint64_t skipped() const {
-    return skipped_other + skipped_wrong_size + skipped_fragment + skipped_address + truncated;
+    return skipped_other + skipped_wrong_size + skipped_fragment + skipped_address + truncated +
+           queue_full;
   }
 };
 

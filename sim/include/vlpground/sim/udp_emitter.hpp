@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "vlpground/sim/simulator.hpp"
@@ -64,5 +65,24 @@ struct UdpStreamStats {
 /// std::runtime_error when the host cannot be resolved or the socket cannot be opened.
 UdpStreamStats stream_udp(const Simulator& sim, const UdpStreamConfig& config,
                           const std::function<bool()>& should_stop = {});
+
+/// A simulated capture encoded once and streamed as often as wanted (soak tests replay their
+/// captures for an hour without simulating them again). Each play() starts at the capture's
+/// own stamps, so playing again looks like a sensor restart (time jumps back).
+/// Thread-safety: one thread plays a PreparedStream at a time.
+class PreparedStream {
+ public:
+  explicit PreparedStream(const Simulator& sim);
+  ~PreparedStream();
+  PreparedStream(PreparedStream&&) noexcept;
+  PreparedStream& operator=(PreparedStream&&) noexcept;
+
+  /// As stream_udp().
+  UdpStreamStats play(const UdpStreamConfig& config, const std::function<bool()>& should_stop = {});
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace vlpground::sim

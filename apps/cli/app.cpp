@@ -1,0 +1,182 @@
+#include "cli/app.hpp"
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+#include <sstream>
+
+#include "cli/options.hpp"
+#include "cli/yaml_config.hpp"
+
+#ifndef VLPGROUND_VERSION
+#define VLPGROUND_VERSION "unknown"
+#endif
+
+namespace vlpground::cli {
+namespace {
+
+constexpr const char* kExitCodes =
+    "Exit status: 0 success, 1 runtime failure (unreadable input, write error, nothing "
+    "received), 2 usage error (bad option or value).";
+
+// `vlpground help [SUBCOMMAND]`, `vlpground help --all-markdown`.
+class HelpCommand : public Command {
+ public:
+  explicit HelpCommand(CLI::App& app) : app_(app) {
+    CLI::App* cmd = app.add_subcommand("help", "show the help of vlpground or of a subcommand");
+    cmd->add_option("subcommand", topic_, "the subcommand")->type_name("SUBCOMMAND");
+    cmd->add_flag("--all-markdown", markdown_,
+                  "print every option of every subcommand as Markdown (docs/cli.md)");
+  }
+
+  int run() override {
+    if (markdown_) {
+      std::fputs(markdown_reference(app_).c_str(), stdout);
+      return kExitOk;
+    }
+    if (topic_.empty()) {
+      std::fputs(app_.help().c_str(), stdout);
+      return kExitOk;
+    }
+    const CLI::App* sub = find(topic_);
+    if (sub == nullptr) throw UsageError("no subcommand '" + topic_ + "'");
+    std::fputs(sub->help("vlpground").c_str(), stdout);
+    return kExitOk;
+  }
+
+ private:
+  [[nodiscard]] const CLI::App* find(const std::string& name) const {
+    for (const CLI::App* sub : app_.get_subcommands({})) {
+      if (sub->get_name() == name) return sub;
+    }
+    return nullptr;
+  }
+  CLI::App& app_;
+  std::string topic_;
+  bool markdown_ = false;
+};
+
+std::string command_name(const CliApp& cli, int argc, char** argv) {
+  for (const auto& [sub, command] : cli.commands) {
+    if (sub->parsed()) return sub->get_name();
+  }
+  for (const auto& [sub, command] : cli.commands) {
+    if (argc > 1 && sub->get_name() == argv[1]) return sub->get_name();
+  }
+  return {};
+}
+
+int usage_error(const std::string& command, const std::string& message) {
+  const std::string where = command.empty() ? "vlpground" : "vlpground " + command;
+  std::fprintf(stderr, "%s: %s (see '%s --help')\n", where.c_str(), message.c_str(), where.c_str());
+  return kExitUsage;
+}
+
+std::string escape_cell(std::string text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '|') out += '\\';
+    if (c == '\n') {
+      out += ' ';
+      continue;
+    }
+    out += c;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::unique_ptr<CliApp> build_cli() {
+  auto cli = std::make_unique<CliApp>();
+  CLI::App& app = cli->app;
+  app.set_version_flag("--version", std::string("vlpground ") + VLPGROUND_VERSION);
+  app.option_defaults()->always_capture_default();
+  app.get_formatter()->label("Usage", "usage");
+  app.get_formatter()->column_width(34);
+  app.footer(std::string(kExitCodes) + "\n" + kFrameConvention +
+             "\nRun 'vlpground help SUBCOMMAND' for the options of a subcommand.");
+  app.require_subcommand(1);
+  for (auto add : {add_replay_command, add_live_command, add_info_command, add_eval_command,
+                   add_sim_command}) {
+    auto command = add(app);
+    cli->commands.emplace_back(app.get_subcommands({}).back(), std::move(command));
+  }
+  for (auto& [sub, command] : cli->commands) sub->footer(kExitCodes);
+  auto help = std::make_unique<HelpCommand>(app);
+  cli->commands.emplace_back(app.get_subcommands({}).back(), std::move(help));
+  return cli;
+}
+
+int run_cli(int argc, char** argv) {
+  // Logs go to stderr: stdout carries only the requested output (a table, JSON or CSV).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("vlpground"));
+  spdlog::set_pattern("vlpground: %l: %v");
+  spdlog::set_level(spdlog::level::warn);
+  const auto cli = build_cli();
+  CLI::App& app = cli->app;
+  if (argc < 2) {
+    std::fputs(app.help().c_str(), stderr);
+    return kExitUsage;
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    return usage_error(command_name(*cli, argc, argv), e.what());
+  }
+  const std::string name = command_name(*cli, argc, argv);
+  for (auto& [sub, command] : cli->commands) {
+    if (!sub->parsed()) continue;
+    try {
+      apply_config_file(*sub);
+      return command->run();
+    } catch (const UsageError& e) {
+      return usage_error(name, e.what());
+    } catch (const CLI::ParseError& e) {
+      return usage_error(name, e.what());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "vlpground %s: %s\n", name.c_str(), e.what());
+      return kExitFailure;
+    }
+  }
+  return usage_error("", "no subcommand");
+}
+
+std::string markdown_reference(const CLI::App& app) {
+  std::ostringstream md;
+  md << "# vlpground command line\n\n"
+     << "<!-- Generated by `vlpground help --all-markdown`; do not edit by hand "
+        "(tests/apps check it). -->\n\n"
+     << "`vlpground SUBCOMMAND [options]`; `vlpground help SUBCOMMAND` prints the same as "
+        "below, `vlpground --version` the version.\n\n"
+     << kExitCodes << "\n\n"
+     << kFrameConvention << "\n\n"
+     << "`live` and `replay` also read every option from `--config FILE.yaml` (keys are the "
+        "long option names without dashes); an option given on the command line wins.\n";
+  for (const CLI::App* sub : app.get_subcommands({})) {
+    if (sub->get_name() == "help") continue;
+    md << "\n## vlpground " << sub->get_name() << "\n\n" << sub->get_description() << ".\n\n";
+    md << "| option | value | default | meaning |\n|---|---|---|---|\n";
+    for (const CLI::Option* opt : sub->get_options()) {
+      if (opt->get_name() == "--help") continue;
+      const std::string name = opt->get_positional() ? opt->get_name() : opt->get_name(false, true);
+      const std::string value = opt->get_type_size() == 0 ? "" : opt->get_type_name();
+      std::string def = opt->get_default_str();
+      if (opt->get_type_size() == 0) def.clear();
+      if (opt->get_required()) def = "required";
+      md << "| `" << escape_cell(name) << "` | " << escape_cell(value) << " | "
+         << (def.empty() ? "" : "`" + escape_cell(def) + "`") << " | "
+         << escape_cell(opt->get_description()) << " |\n";
+    }
+  }
+  return md.str();
+}
+
+}  // namespace vlpground::cli

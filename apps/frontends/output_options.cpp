@@ -1,0 +1,65 @@
+#include "frontends/output_options.hpp"
+
+#include <stdexcept>
+
+namespace vlpground::cli {
+
+void add_output_options(CLI::App& cmd, OutputOptions& o) {
+  add_csv_options(cmd, o.csv);
+  add_pcd_options(cmd, o.pcd);
+  add_png_options(cmd, o.png);
+  add_mcap_options(cmd, o.mcap);
+  add_ros2_options(cmd, o.ros2);
+}
+
+namespace {
+
+// Puts the option name in front of a sink's errors, so every message says which output failed.
+class NamedSink : public FrameSink {
+ public:
+  NamedSink(std::string option, std::unique_ptr<FrameSink> sink)
+      : option_(std::move(option)), sink_(std::move(sink)) {}
+  void write(const LabelledFrame& f) override {
+    named([&] { sink_->write(f); });
+  }
+  void on_stats(const PipelineStats& s) override { sink_->on_stats(s); }
+  void finish() override {
+    named([&] { sink_->finish(); });
+  }
+
+ private:
+  void named(const auto& call) {
+    try {
+      call();
+    } catch (const std::exception& e) {
+      throw std::runtime_error(option_ + ": " + e.what());
+    }
+  }
+  std::string option_;
+  std::unique_ptr<FrameSink> sink_;
+};
+
+void add_sink(std::vector<std::unique_ptr<FrameSink>>& sinks, const char* option,
+              const std::string& where, const auto& make) {
+  try {
+    if (auto sink = make()) sinks.push_back(std::make_unique<NamedSink>(option, std::move(sink)));
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string(option) + " " + where + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+std::vector<std::unique_ptr<FrameSink>> make_sinks(const OutputOptions& o,
+                                                   const PipelineConfig& config) {
+  std::vector<std::unique_ptr<FrameSink>> sinks;
+  add_sink(sinks, "--csv", o.csv.path, [&] { return make_csv_sink(o.csv, config); });
+  add_sink(sinks, "--pcd", o.pcd.dir, [&] { return make_pcd_sink(o.pcd, config); });
+  add_sink(sinks, "--png", o.png.dir, [&] { return make_png_sink(o.png, config); });
+  add_sink(sinks, "--mcap", o.mcap.path, [&] { return make_mcap_sink(o.mcap, config); });
+  add_sink(sinks, "--ros2", describe_ros2_destination(o.ros2),
+           [&] { return make_ros2_sink(o.ros2, config); });
+  return sinks;
+}
+
+}  // namespace vlpground::cli
