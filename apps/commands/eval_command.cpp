@@ -70,7 +70,7 @@ class EvalCommand : public Command {
     if (json_) {
       nlohmann::json j = {
           {"capture", result.capture},
-          {"method", to_string(result.method)},
+          {"method", result.method},
           {"radius_m", radius},
           {"frames", result.score.frames},
           {"precision", c.precision()},
@@ -86,7 +86,7 @@ class EvalCommand : public Command {
       std::printf("%s\n", j.dump(2).c_str());
     } else {
       std::printf("%-10s %s\n%-10s %s\n%-10s %llu\n%-10s %.1f m\n", "capture",
-                  result.capture.c_str(), "method", to_string(result.method).data(), "frames",
+                  result.capture.c_str(), "method", result.method.c_str(), "frames",
                   static_cast<unsigned long long>(result.score.frames), "radius", radius);
       std::printf("%-10s %.4f\n%-10s %.4f\n%-10s %.4f\n", "precision", c.precision(), "recall",
                   c.recall(), "F1", c.f1());

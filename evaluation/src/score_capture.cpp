@@ -43,7 +43,7 @@ std::vector<CaptureScore> score_capture(const std::filesystem::path& pcap_path,
   for (std::size_t k = 0; k < detectors.size(); ++k) {
     ground.emplace_back(detectors[k]);
     out[k].capture = pcap_path.stem().string();
-    out[k].method = detectors[k].method;
+    out[k].method = std::string(to_string(detectors[k].method));
   }
 
   PcapSourceConfig source;

@@ -55,7 +55,7 @@ py::dict evaluate(const fs::path& pcap, const fs::path& labels, DetectorConfig d
     throw std::runtime_error(pcap.string() + ": no VLP-16 frame decoded, nothing to evaluate");
   }
   const eval::Confusion& c = result.score.all;
-  return py::dict("capture"_a = result.capture, "method"_a = std::string(to_string(result.method)),
+  return py::dict("capture"_a = result.capture, "method"_a = result.method,
                   "radius_m"_a = radius_m, "frames"_a = result.score.frames,
                   "precision"_a = c.precision(), "recall"_a = c.recall(), "f1"_a = c.f1(),
                   "tp"_a = c.tp, "fp"_a = c.fp, "fn"_a = c.fn, "tn"_a = c.tn,

@@ -83,7 +83,7 @@ const Scores& all_scores() {
       vlpground::eval::CaptureScoreOptions options;
       options.max_frames = 5;
       for (auto& score : vlpground::eval::score_capture(*pcap, *labels, configs, options)) {
-        out[{stem, std::string(to_string(score.method))}] = std::move(score);
+        out[{stem, score.method}] = std::move(score);
       }
     }
     return out;

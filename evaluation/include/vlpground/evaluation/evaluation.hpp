@@ -131,7 +131,7 @@ class FrameScorer {
 /// Score of a whole capture under one detector configuration.
 struct CaptureScore {
   std::string capture;  // file stem
-  GroundMethod method = GroundMethod::tangent;
+  std::string method;  // to_string(DetectorConfig::method), or a caller's label
   Score score;
   double detect_ms_total = 0;  // wall time spent in GroundDetector::detect
 };
