@@ -17,7 +17,7 @@ namespace vlpground::cli {
 namespace {
 
 MultiPipelineConfig multi_config(const RunRequest& request, const std::vector<std::string>& specs) {
-  const UdpSourceConfig& udp = request.config.udp;
+  const auto& udp = std::get<UdpSourceConfig>(request.config.source);
   if (!udp.sensor_address.empty()) {
     throw UsageError("--sensor-ip and --sensor exclude each other (--sensor NAME=IP names the "
                      "address of each sensor)");
@@ -140,7 +140,7 @@ int run_multi_pipeline(RunRequest request, const std::vector<std::string>& specs
     for (std::size_t i = 0; i < stats.sensors.size(); ++i) {
       const SensorStats& s = stats.sensors[i];
       const SummaryContext context{request.command, describe_sensor(config.sensors[i]),
-                                   config.pipeline.detector.method, "", warnings.load()};
+                                   std::string(to_string(config.pipeline.detector.method)), "", warnings.load()};
       nlohmann::json sensor = nlohmann::json::parse(summary_json(s.pipeline, context));
       sensor["name"] = s.name;
       sensor["packets"]["routed"] = router.sensors[i].data_packets;
@@ -154,7 +154,7 @@ int run_multi_pipeline(RunRequest request, const std::vector<std::string>& specs
     for (std::size_t i = 0; i < stats.sensors.size(); ++i) {
       const SummaryContext context{request.command + ", sensor " + stats.sensors[i].name,
                                    describe_sensor(config.sensors[i]),
-                                   config.pipeline.detector.method, "", warnings.load()};
+                                   std::string(to_string(config.pipeline.detector.method)), "", warnings.load()};
       print_summary_table(stdout, stats.sensors[i].pipeline, context);
     }
     std::printf("router: %llu datagrams, %llu from unknown addresses, %llu dropped by the kernel\n",
