@@ -35,8 +35,9 @@ fs::path make_capture(const fs::path& dir, SceneKind kind, std::uint64_t seed,
   c.frames = 2;
   c.mode = mode;
   const vlpground::sim::Simulator sim(c);
-  const fs::path stem = dir / (std::string(vlpground::sim::to_string(kind)) + "_" +
-                               std::to_string(seed) + (mode == vlpground::ReturnMode::dual ? "_dual" : ""));
+  const fs::path stem =
+      dir / (std::string(vlpground::sim::to_string(kind)) + "_" + std::to_string(seed) +
+             (mode == vlpground::ReturnMode::dual ? "_dual" : ""));
   vlpground::sim::write_capture(sim, stem);
   return stem;
 }
@@ -86,9 +87,9 @@ std::string kind_of(const std::string& name) { return name.substr(0, name.find('
 // Minimum F1 of the default method per kind on this slice, less 0.01 (measured at the
 // revision that set them; see docs/accuracy.md for the full set).
 const std::map<std::string, double> kFloor = {
-    {"flat", 0.98},  {"urban", 0.98}, {"slope", 0.98},      {"hills", 0.96},
-    {"jam", 0.98},   {"fences", 0.97}, {"embankment", 0.80}, {"bank", 0.70},
-    {"bowl", 0.93},  {"crest", 0.97}, {"garage", 0.80},
+    {"flat", 0.98}, {"urban", 0.98},  {"slope", 0.98},      {"hills", 0.96},
+    {"jam", 0.98},  {"fences", 0.97}, {"embankment", 0.80}, {"bank", 0.70},
+    {"bowl", 0.93}, {"crest", 0.97},  {"garage", 0.80},
 };
 
 }  // namespace
