@@ -1,5 +1,8 @@
 #include "cli/app.hpp"
 
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
 #include <cstdio>
 #include <sstream>
 
@@ -107,6 +110,10 @@ std::unique_ptr<CliApp> build_cli() {
 }
 
 int run_cli(int argc, char** argv) {
+  // Logs go to stderr: stdout carries only the requested output (a table, JSON or CSV).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("vlpground"));
+  spdlog::set_pattern("vlpground: %l: %v");
+  spdlog::set_level(spdlog::level::warn);
   const auto cli = build_cli();
   CLI::App& app = cli->app;
   if (argc < 2) {

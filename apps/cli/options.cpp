@@ -2,7 +2,11 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cerrno>
 #include <charconv>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -92,7 +96,16 @@ void add_detector_options(CLI::App& cmd, PipelineConfig& config) {
 }
 
 void add_frames_option(CLI::App& cmd, std::uint64_t& frames) {
-  cmd.add_option("--frames", frames, "stop after N frames (0 = all)")->type_name("N");
+  cmd.add_option_function<std::int64_t>(
+         "--frames", [&frames](std::int64_t n) { frames = static_cast<std::uint64_t>(n); },
+         "stop after N frames (0 = all)")
+      ->type_name("N")
+      ->check(CLI::Validator(
+          [](const std::string& v) {
+            return v.find('-') == std::string::npos ? std::string() : "must be >= 0, got " + v;
+          },
+          ""))
+      ->default_str(std::to_string(frames));
 }
 
 void add_run_limit_options(CLI::App& cmd, PipelineConfig& config) {
@@ -105,6 +118,17 @@ void add_run_limit_options(CLI::App& cmd, PipelineConfig& config) {
 void add_log_level_option(CLI::App& cmd, std::string& level) {
   cmd.add_option("--log-level", level, "log verbosity (logs go to stderr)")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+}
+
+void check_input_file(const std::string& role, const std::string& path) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  const std::string where = role + " " + path + ": ";
+  if (!std::filesystem::exists(status)) throw std::runtime_error(where + "no such file");
+  if (std::filesystem::is_directory(status)) throw std::runtime_error(where + "is a directory");
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) throw std::runtime_error(where + std::strerror(errno));
+  std::fclose(f);
 }
 
 void apply_log_level(const std::string& level) {

@@ -56,6 +56,10 @@ void add_frames_option(CLI::App& cmd, std::uint64_t& frames);
 void add_run_limit_options(CLI::App& cmd, PipelineConfig& config);
 /// --log-level into `level` (validated against spdlog's names).
 void add_log_level_option(CLI::App& cmd, std::string& level);
+/// Throws std::runtime_error "ROLE PATH: is a directory" (no such file, permission denied)
+/// unless `path` is a readable file. ROLE is what the user typed: "--calibration", "capture".
+void check_input_file(const std::string& role, const std::string& path);
+
 /// Applies --log-level to spdlog.
 void apply_log_level(const std::string& level);
 

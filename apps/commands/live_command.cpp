@@ -1,6 +1,12 @@
 // `vlpground live [options]`: run on a sensor on the network until Ctrl-C, --frames or
 // --duration.
+#include <netdb.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
+#include <stdexcept>
 
 #include "cli/options.hpp"
 #include "commands/commands.hpp"
@@ -8,6 +14,29 @@
 
 namespace vlpground::cli {
 namespace {
+
+// Binds (and closes) a UDP socket on `address`:`port` so that a port in use is reported in
+// the user's words, naming its role and the option that moves it.
+void check_port_free(const std::string& address, std::uint16_t port, const char* role,
+                     const char* hint) {
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_DGRAM;
+  hints.ai_flags = AI_PASSIVE | AI_NUMERICHOST | AI_NUMERICSERV;
+  addrinfo* found = nullptr;
+  if (getaddrinfo(address.c_str(), std::to_string(port).c_str(), &hints, &found) != 0) {
+    throw std::runtime_error("--bind " + address + ": not a numeric IPv4 or IPv6 address");
+  }
+  const int fd = socket(found->ai_family, found->ai_socktype, 0);
+  const bool in_use = fd >= 0 && bind(fd, found->ai_addr, found->ai_addrlen) != 0 &&
+                      errno == EADDRINUSE;
+  if (fd >= 0) close(fd);
+  freeaddrinfo(found);
+  if (in_use) {
+    throw std::runtime_error(std::string(role) + " " + std::to_string(port) + " on " + address +
+                             " is in use; " + hint);
+  }
+}
 
 class LiveCommand : public Command {
  public:
@@ -41,6 +70,17 @@ class LiveCommand : public Command {
     if (udp.position_port == udp.data_port) {
       throw UsageError("--position-port must differ from --port (both " +
                        std::to_string(udp.data_port) + ")");
+    }
+    if (!request_.config.decoder.calibration_file.empty()) {
+      check_input_file("--calibration", request_.config.decoder.calibration_file);
+    }
+    if (udp.multicast_group.empty()) {
+      check_port_free(udp.bind_address, udp.data_port, "data port",
+                      "choose another with --port");
+      if (udp.position_port != 0) {
+        check_port_free(udp.bind_address, udp.position_port, "position port",
+                        "use --position-port (0 = ignore position packets)");
+      }
     }
     return run_pipeline(std::move(request_));
   }

@@ -101,6 +101,9 @@ std::string describe_input(const RunRequest& r) {
 int run_pipeline(RunRequest request) {
   const std::string prefix = "vlpground " + request.command + ": ";
   apply_log_level(request.log_level);
+  if (request.json && request.outputs.csv.path == "-") {
+    throw UsageError("--json and --csv - both write to stdout; give --csv a file");
+  }
   std::vector<std::unique_ptr<FrameSink>> sinks;
   try {
     sinks = make_sinks(request.outputs, request.config);
@@ -116,8 +119,10 @@ int run_pipeline(RunRequest request) {
     std::fprintf(stderr, "%s%s\n", prefix.c_str(), e.what());
     return kExitUsage;
   }
-  const bool terminal = isatty(STDOUT_FILENO) != 0 && !request.json;
-  const bool frame_lines = !terminal && !request.json;
+  // stdout carries only the requested output: the CSV with --csv -, else the console.
+  std::FILE* const console = request.outputs.csv.path == "-" ? stderr : stdout;
+  const bool terminal = isatty(fileno(console)) != 0 && !request.json;
+  const bool frame_lines = !terminal && !request.json && console == stdout;
   SinkErrors sink_errors;
   std::vector<FrameSink*> working;  // sinks that have not failed (detection thread only)
   for (auto& s : sinks) working.push_back(s.get());
@@ -178,7 +183,7 @@ int run_pipeline(RunRequest request) {
   using Clock = std::chrono::steady_clock;
   auto next_stats = Clock::now() + std::chrono::seconds(1);
   while (!pipeline->wait_for(100)) {
-    if (terminal) print_progress(stdout, pipeline->stats());
+    if (terminal) print_progress(console, pipeline->stats());
     if (Clock::now() >= next_stats) {
       next_stats += std::chrono::seconds(1);
       const PipelineStats now = pipeline->stats();
@@ -186,14 +191,16 @@ int run_pipeline(RunRequest request) {
     }
   }
   if (terminal) {
-    print_progress(stdout, pipeline->stats());
-    std::fputc('\n', stdout);
+    print_progress(console, pipeline->stats());
+    std::fputc('\n', console);
   }
   pipeline->wait();
   signals.finish();
+  const PipelineStats final_stats = pipeline->stats();
   for (std::size_t i = 0; i < sinks.size(); ++i) {
     if (working[i] == nullptr) continue;  // failed: its error is already recorded
     try {
+      sinks[i]->on_stats(final_stats);  // the final counters (a recording keeps them)
       sinks[i]->finish();
     } catch (const std::exception& e) {
       sink_errors.record(e.what());
@@ -206,7 +213,7 @@ int run_pipeline(RunRequest request) {
   if (request.json) {
     std::printf("%s\n", summary_json(stats, context).c_str());
   } else {
-    print_summary_table(stdout, stats, context);
+    print_summary_table(console, stats, context);
   }
   std::fflush(stdout);
   if (const std::string error = sink_errors.first(); !error.empty()) {

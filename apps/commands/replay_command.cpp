@@ -33,6 +33,10 @@ class ReplayCommand : public Command {
 
   int run() override {
     request_.config.pcap = pcap_;
+    check_input_file("capture", pcap_.path);
+    if (!request_.config.decoder.calibration_file.empty()) {
+      check_input_file("--calibration", request_.config.decoder.calibration_file);
+    }
     const CaptureProbe probe = probe_capture(pcap_, 400);
     if (!probe.error.empty()) {
       std::fprintf(stderr, "vlpground replay: %s\n", probe.error.c_str());

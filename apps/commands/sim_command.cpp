@@ -4,7 +4,9 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <exception>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
@@ -15,6 +17,7 @@
 #include "vlpground/sim/capture_writer.hpp"
 #include "vlpground/sim/simulator.hpp"
 #include "vlpground/sim/udp_emitter.hpp"
+#include "writers/output_path.hpp"
 
 namespace vlpground::cli {
 namespace {
@@ -51,6 +54,21 @@ int stream(const sim::Simulator& simulator, const sim::UdpStreamConfig& udp) {
   return stats.send_errors == 0 ? kExitOk : kExitFailure;
 }
 
+// "sim config: sensor_height_m must be ..." -> "--height-m must be ...".
+std::string in_option_names(std::string message) {
+  static const std::pair<const char*, const char*> kNames[] = {
+      {"sim config: frames", "--frames"},
+      {"sim config: rpm", "--rpm"},
+      {"sim config: sensor_height_m", "--height-m"},
+      {"sim config: speed_mps", "--speed-mps"},
+      {"sim config: mount roll/pitch", "--roll-deg and --pitch-deg"},
+  };
+  for (const auto& [field, option] : kNames) {
+    if (message.rfind(field, 0) == 0) return option + message.substr(std::strlen(field));
+  }
+  return message;
+}
+
 class SimCommand : public Command {
  public:
   explicit SimCommand(CLI::App& app) {
@@ -77,7 +95,7 @@ class SimCommand : public Command {
         ->required();
     cmd->add_option("--seed", c.seed, "scene and noise seed");
     cmd->add_option("--frames", c.frames, "complete rotations to simulate")
-        ->check(CLI::Range(1, 100000));
+        ->check(CLI::Range(1, 10000));
     cmd->add_option("--rpm", c.rpm, "motor speed")->check(CLI::Range(300.0, 1200.0));
     add_choice_option<ReturnMode>(*cmd, "--mode", c.mode,
                                   {{"strongest", ReturnMode::strongest},
@@ -86,7 +104,9 @@ class SimCommand : public Command {
                                   "return mode");
     add_choice_option<Model>(*cmd, "--model", c.model,
                              {{"vlp16", Model::vlp16}, {"hires", Model::hires}}, "sensor model");
-    cmd->add_option("--out", out_, "write STEM.pcap, STEM.labels, STEM.json")
+    cmd->add_option("--out", out_,
+                    "write STEM.pcap, STEM.labels, STEM.json (an existing directory: "
+                    "DIR/SCENE.*)")
         ->type_name("STEM")
         ->default_str("SCENE");
     cmd->add_option_function<double>(
@@ -120,6 +140,10 @@ class SimCommand : public Command {
 
   int run() override {
     if (out_.empty()) out_ = scene_name_;
+    // One rule for output paths: an existing directory gets DIR/SCENE.*, missing parent
+    // directories are created.
+    if (std::filesystem::is_directory(out_))
+      out_ = (std::filesystem::path(out_) / scene_name_).string();
     if (udp_) {
       udp_->position_port = position_port_;
       udp_->rate = rate_;
@@ -129,11 +153,12 @@ class SimCommand : public Command {
       options_.validate();
       if (udp_) udp_->validate();
     } catch (const std::invalid_argument& e) {
-      throw UsageError(e.what());
+      throw UsageError(in_option_names(e.what()));
     }
     const auto started = std::chrono::steady_clock::now();
     const sim::Simulator simulator(options_);
     if (udp_) return stream(simulator, *udp_);
+    create_parent_directories(out_);
     const auto summary = sim::write_capture(simulator, out_);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

@@ -25,7 +25,8 @@ class FrameSink {
   virtual ~FrameSink() = default;
   /// Called on the detection thread for every delivered frame; `f` is valid during the call.
   virtual void write(const LabelledFrame& f) = 0;
-  /// About once a second, from the runner's main thread.
+  /// About once a second, from the runner's main thread, and once more with the final
+  /// counters just before finish().
   virtual void on_stats(const PipelineStats& /*stats*/) {}
   /// End of the run: flush and close. Throws std::runtime_error with a one-line reason when
   /// the output could not be written.

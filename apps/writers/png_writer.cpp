@@ -62,10 +62,12 @@ double nice_length(double limit_m) {
 
 }  // namespace
 
-PngWriter::PngWriter(const std::string& dir, double view_radius_m, std::string sensor_name)
+PngWriter::PngWriter(const std::string& dir, double view_radius_m, std::string sensor_name,
+                     const Extrinsics& extrinsics)
     : dir_(dir),
       sensor_name_(std::move(sensor_name)),
       metres_per_pixel_(2.0 * view_radius_m / kWidth),
+      to_vehicle_(vehicle_from_sensor(extrinsics)),
       canvas_(kWidth, kHeaderPixels + kWidth + kCaptionPixels + kLasers * kRowPixels) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
@@ -123,19 +125,23 @@ void PngWriter::draw_header(const Frame& frame, const GroundResult& ground, doub
 }
 
 void PngWriter::draw_birds_eye(const Frame& frame, const GroundResult& ground) {
+  const RigidTransform& t = to_vehicle_;
   for (int l = 0; l < frame.layers(); ++l) {
     const ReturnLayer& layer = frame.layer[l];
     for (int ring = 0; ring < kLasers; ++ring) {
       for (int col = 0; col < frame.columns(); ++col) {
         const std::size_t cell = frame.index(ring, col);
         if (layer.valid[cell] == 0) continue;
-        set_metres(layer.x_m[cell], layer.y_m[cell], colour_of(label_of(ground, l, ring, col)));
+        const float x = layer.x_m[cell], y = layer.y_m[cell], z = layer.z_m[cell];
+        set_metres(t.r[0][0] * x + t.r[0][1] * y + t.r[0][2] * z + t.t[0],
+                   t.r[1][0] * x + t.r[1][1] * y + t.r[1][2] * z + t.t[1],
+                   colour_of(label_of(ground, l, ring, col)));
       }
     }
   }
-  for (int d = -2; d <= 2; ++d) {
-    canvas_.set(kWidth / 2 + d, kHeaderPixels + kWidth / 2, kSensor);
-    canvas_.set(kWidth / 2, kHeaderPixels + kWidth / 2 + d, kSensor);
+  for (int d = -2; d <= 2; ++d) {  // the sensor where it is mounted
+    set_metres(t.t[0] + d * metres_per_pixel_, t.t[1], kSensor);
+    set_metres(t.t[0], t.t[1] + d * metres_per_pixel_, kSensor);
   }
 }
 
@@ -165,7 +171,7 @@ void PngWriter::draw_legend() {
       {kSegment, "segment with its own ground plane"},
       {kSegmentNoGround, "segment without (plane inherited)"},
       {kCentre, "partition centre"},
-      {kSensor, "sensor (x forward = up)"},
+      {kSensor, "sensor (vehicle frame, x forward = up)"},
   };
   constexpr int kSwatch = 10, kLine = 15, kPad = 6;
   int widest = 0;

@@ -1,8 +1,9 @@
 // One PNG per frame, pictures people can read without the source code:
 //   - a header: sensor name, frame number, UTC time of the first firing, rpm, return mode,
 //     ground share and detector time;
-//   - a bird's-eye view (ground green, obstacles red, the partition cross and the four
-//     segments' extents) with a legend and a scale bar;
+//   - a bird's-eye view in the vehicle frame (returns moved by the sensor's extrinsics, as
+//     the detector sees them; ground green, obstacles red, the partition cross and the four
+//     segments' extents, the sensor where it is mounted) with a legend and a scale bar;
 //   - the 16 x N range image coloured by label (highest ring on top).
 // DIR/frame_000042.png. At finish() (or destruction) DIR/overview.png plots ground share and
 // detector time per frame over the run (run_overview.hpp). Buffers are reused between frames.
@@ -28,7 +29,8 @@ class PngWriter {
 
   /// Creates `dir` if needed. `sensor_name` appears in the header (empty: none).
   /// Throws std::runtime_error.
-  PngWriter(const std::string& dir, double view_radius_m = 40.0, std::string sensor_name = {});
+  PngWriter(const std::string& dir, double view_radius_m = 40.0, std::string sensor_name = {},
+            const Extrinsics& extrinsics = {});
   ~PngWriter();
   PngWriter(const PngWriter&) = delete;
   PngWriter& operator=(const PngWriter&) = delete;
@@ -51,6 +53,7 @@ class PngWriter {
   std::string dir_;
   std::string sensor_name_;
   double metres_per_pixel_;
+  RigidTransform to_vehicle_;
   Canvas canvas_;
   RunOverview overview_;
   bool finished_ = false;

@@ -6,25 +6,15 @@
 #include "method.hpp"
 #include "vlpground_internal/vector_clones.hpp"
 
-namespace vlpground::detail {
+namespace vlpground {
 
-namespace {
-
-using Index = std::size_t;
-
-// Vehicle-from-sensor rotation R = Rz(yaw) * Ry(pitch) * Rx(roll), then t.
-struct Transform {
-  float r[3][3];
-  float t[3];
-};
-
-Transform transform_of(const Extrinsics& e) {
+RigidTransform vehicle_from_sensor(const Extrinsics& e) {
   constexpr double kDegToRad = M_PI / 180.0;
   const Eigen::Matrix3d r = (Eigen::AngleAxisd(e.yaw_deg * kDegToRad, Eigen::Vector3d::UnitZ()) *
                              Eigen::AngleAxisd(e.pitch_deg * kDegToRad, Eigen::Vector3d::UnitY()) *
                              Eigen::AngleAxisd(e.roll_deg * kDegToRad, Eigen::Vector3d::UnitX()))
                                 .toRotationMatrix();
-  Transform out{};
+  RigidTransform out{};
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) out.r[i][j] = static_cast<float>(r(i, j));
   out.t[0] = static_cast<float>(e.x_m);
@@ -32,6 +22,15 @@ Transform transform_of(const Extrinsics& e) {
   out.t[2] = static_cast<float>(e.z_m);
   return out;
 }
+
+}  // namespace vlpground
+
+namespace vlpground::detail {
+
+namespace {
+
+using Index = std::size_t;
+using Transform = RigidTransform;
 
 // One frame row: its cells and where its points go.
 struct Row {
@@ -169,7 +168,7 @@ void resize_all(Cloud& c, Index n) {
 void build_cloud(const Frame& frame, const Extrinsics& extrinsics, bool deduplicate, Cloud& cloud) {
   // Sized, not cleared: every slot is written below, so only growth initialises memory.
   cloud.last_begin = 0;
-  const Transform tr = transform_of(extrinsics);
+  const Transform tr = vehicle_from_sensor(extrinsics);
   const int layers = frame.layers();
   cloud.deduplicated = deduplicate && layers == 2;
   const Index strongest = count_valid(frame, 0), last = layers == 2 ? count_valid(frame, 1) : 0;

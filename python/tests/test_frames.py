@@ -164,6 +164,16 @@ def test_detect_again_with_other_settings():
     assert ransac.meta.sequence == frame.meta.sequence
 
 
+def test_method_keyword_and_detector_config():
+    path = PCAPS / "urban_demo.pcap"
+    ransac = vlpground.DetectorConfig(method="ransac", min_sensor_height_m=0.3)
+    assert next(iter(vlpground.read_pcap(path, detector=ransac))).method == "ransac"
+    assert next(iter(vlpground.read_pcap(path, detector=ransac, method="lpr"))).method == "lpr"
+    assert next(iter(vlpground.read_pcap(path, method="ransac"))).method == "ransac"
+    assert next(iter(vlpground.read_pcap(path))).method == "tangent"
+    assert vlpground.evaluate(path, path.with_suffix(".labels"), detector=ransac)["method"] == "ransac"
+
+
 def test_errors_are_clear(tmp_path):
     with pytest.raises(RuntimeError, match="missing.pcap"):
         vlpground.read_pcap(tmp_path / "missing.pcap")

@@ -59,12 +59,20 @@ def _extrinsics(value: ExtrinsicsLike) -> Optional[Extrinsics]:
     return Extrinsics(**dict(zip(names, values)))
 
 
+class _DefaultMethod(str):
+    """The default `method` argument: "tangent", unless a `detector` config says otherwise."""
+
+
+DEFAULT_METHOD = _DefaultMethod("tangent")
+
+
 def _detector(method: Optional[str], extrinsics: ExtrinsicsLike,
               detector: Optional[DetectorConfig]) -> DetectorConfig:
-    """One DetectorConfig from the keyword shortcuts and an optional full config."""
+    """One DetectorConfig from the keyword shortcuts and an optional full config (an
+    explicit `method` or `extrinsics` overrides the config's)."""
     config = DetectorConfig(**{name: getattr(detector, name) for name in _CONFIG_FIELDS}) \
         if detector is not None else DetectorConfig()
-    if method is not None:
+    if method is not None and not (detector is not None and isinstance(method, _DefaultMethod)):
         config.method = method
     pose = _extrinsics(extrinsics)
     if pose is not None:
@@ -85,7 +93,7 @@ def _frames_limit(frames: Optional[int]) -> int:
     return int(frames)
 
 
-def read_pcap(path: PathLike, *, method: Optional[str] = "tangent",
+def read_pcap(path: PathLike, *, method: str = DEFAULT_METHOD,
               extrinsics: ExtrinsicsLike = None, calibration: Optional[PathLike] = None,
               model: Optional[str] = None, cut_angle_deg: float = 0.0,
               sensor_ip: Optional[str] = None, port: int = 2368, position_port: int = 8308,
@@ -103,7 +111,8 @@ def read_pcap(path: PathLike, *, method: Optional[str] = "tangent",
         cut_angle_deg: azimuth where frames start.
         sensor_ip: only packets from this address (default: any).
         port, position_port: UDP ports of data and position packets in the capture.
-        detector: full DetectorConfig (method/extrinsics above override its fields).
+        detector: full DetectorConfig; `method` and `extrinsics`, when given, override its
+            fields.
         frames: stop after this many frames (default: all).
         loop: replay the file again at its end (timestamps keep increasing).
         first_frame: start at the frame of this sequence number; the frames before it are
@@ -136,7 +145,7 @@ def _first_frame(first_frame: int) -> int:
 
 def live(port: int = 2368, bind: str = "0.0.0.0", *, position_port: int = 8308,
          sensor_ip: Optional[str] = None, multicast: Optional[str] = None,
-         reuse_address: bool = False, method: Optional[str] = "tangent",
+         reuse_address: bool = False, method: str = DEFAULT_METHOD,
          extrinsics: ExtrinsicsLike = None, calibration: Optional[PathLike] = None,
          model: Optional[str] = None, cut_angle_deg: float = 0.0,
          detector: Optional[DetectorConfig] = None, frames: Optional[int] = None,
@@ -162,7 +171,7 @@ def live(port: int = 2368, bind: str = "0.0.0.0", *, position_port: int = 8308,
                             float(duration_s or 0.0), float(timeout_s or 0.0))
 
 
-def evaluate(pcap: PathLike, labels: PathLike, *, method: Optional[str] = "tangent",
+def evaluate(pcap: PathLike, labels: PathLike, *, method: str = DEFAULT_METHOD,
              radius_m: float = 40.0, extrinsics: ExtrinsicsLike = None,
              detector: Optional[DetectorConfig] = None,
              frames: Optional[int] = None) -> dict:

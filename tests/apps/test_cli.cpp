@@ -13,36 +13,23 @@
 #include <sstream>
 
 #include "child_process.hpp"
+#include "cli_helpers.hpp"
 #include "test_data.hpp"
 #include "udp_sender.hpp"
 #include "vlpground/driver/packet_source.hpp"
 
 using namespace vlpground;
+using test::free_udp_port;
+using test::one_line;
+using test::read_lines;
 using test::run_cli;
+using test::split;
 
 namespace {
 
 const std::string kCli = VLPGROUND_CLI;
 const std::string kHeader =
     "frame,laser_id,ring,return,timestamp_us,azimuth_deg,distance_m,x,y,z,intensity,ground";
-
-std::vector<std::string> read_lines(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::vector<std::string> lines;
-  for (std::string l; std::getline(in, l);) lines.push_back(l);
-  return lines;
-}
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string f; std::getline(ss, f, ',');) out.push_back(f);
-  return out;
-}
-
-bool one_line(const std::string& s) {
-  return !s.empty() && s.back() == '\n' && s.find('\n') == s.size() - 1;
-}
 
 struct PcapFacts {
   std::uint64_t returns = 0;   // distances != 0 over all data packets
@@ -209,13 +196,13 @@ TEST_CASE("help documents every command") {
   CHECK(one_line(bad.err));
 }
 
-TEST_CASE("--version prints the project version") {
+TEST_CASE("vlpground --version prints the project version") {
   const auto r = run_cli({kCli, "--version"});
   CHECK(r.code == 0);
   CHECK(r.out == std::string("vlpground ") + VLPGROUND_VERSION + "\n");
 }
 
-TEST_CASE("replay --config FILE.yaml sets every option; the command line wins") {
+TEST_CASE("replay --config FILE.yaml sets every option, the command line wins") {
   const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
   VLPGROUND_REQUIRE_SHARED(pcap);
   const auto dir = test::temp_dir("cli_config");
@@ -257,7 +244,7 @@ TEST_CASE("live over loopback UDP labels like replay, and SIGINT ends a run clea
   const int frames = std::stoi(split(replay_lines.back())[0]);  // the last, partial frame
   REQUIRE(frames >= 2);
 
-  const std::uint16_t port = test::free_udp_port(), position_port = test::free_udp_port();
+  const std::uint16_t port = free_udp_port(), position_port = free_udp_port();
   test::ChildProcess child({kCli, "live", "--bind", "127.0.0.1", "--port", std::to_string(port),
                             "--position-port", std::to_string(position_port), "--frames",
                             std::to_string(frames), "--queue", "16", "--csv", live_csv.string()});
@@ -291,7 +278,7 @@ TEST_CASE("live over loopback UDP labels like replay, and SIGINT ends a run clea
   CHECK(differing == 0);
 
   test::ChildProcess idle({kCli, "live", "--bind", "127.0.0.1", "--port",
-                           std::to_string(test::free_udp_port()), "--position-port", "0"});
+                           std::to_string(free_udp_port()), "--position-port", "0"});
   REQUIRE(idle.wait_for_stderr("listening", 20'000));
   idle.signal(SIGINT);
   CHECK(idle.wait_exit(20'000) == 0);

@@ -93,7 +93,7 @@ TEST_CASE("canvas: text lands inside its measured box and differs by content", "
   CHECK(differing > 3);
 }
 
-TEST_CASE("png writer: header, legend, scale bar per frame; one overview per run",
+TEST_CASE("png writer: header, legend, scale bar per frame, and one overview per run",
           "[pictures]") {
   const auto dir = std::filesystem::temp_directory_path() /
                    ("vlpground_pictures_" + std::to_string(::getpid()));
@@ -141,5 +141,20 @@ TEST_CASE("png writer: header, legend, scale bar per frame; one overview per run
   const Image unnamed((plain_dir / "frame_000002.png").string());
   CHECK(unnamed.count(0, 0, unnamed.width, PngWriter::kHeaderPixels, Rgb{235, 235, 235}) <
         header_text);
+
+  // Points are drawn in the vehicle frame: a sensor mounted 20 m ahead of the origin shows
+  // its marker 200 pixels (0.1 m each) above the centre, and its ring of returns with it.
+  const auto moved_dir = dir / "moved";
+  {
+    Extrinsics ahead;
+    ahead.x_m = 20;
+    PngWriter moved(moved_dir.string(), 40.0, "ahead", ahead);
+    moved.write(frame, ground, 1.5);
+  }
+  const Image moved((moved_dir / "frame_000002.png").string());
+  const Rgb sensor = {80, 160, 255};
+  const int centre_y = PngWriter::kHeaderPixels + PngWriter::kWidth / 2;
+  CHECK(moved.count(395, centre_y - 205, 405, centre_y - 195, sensor) >= 5);
+  CHECK(moved.count(395, centre_y - 5, 405, centre_y + 5, sensor) == 0);
   std::filesystem::remove_all(dir);
 }

@@ -1,14 +1,11 @@
-// Loopback UDP helpers for the live-mode tests: a free port, and a capture sent to
-// 127.0.0.1 at its own pace, as a sensor would.
+// A capture sent to 127.0.0.1 at its own pace, as a sensor would (live-mode tests; a free
+// port comes from cli_helpers.hpp).
 #pragma once
 
 #include <cstdint>
 #include <string>
 
 namespace vlpground::test {
-
-/// A UDP port on 127.0.0.1 that was free a moment ago (bound to port 0 and read back).
-std::uint16_t free_udp_port();
 
 /// Sends the packets of `pcap` to 127.0.0.1: data packets to `data_port`, position packets
 /// to `position_port` (0: not sent), paced by their capture stamps (`rate` 1 = real time).

@@ -172,7 +172,7 @@ TEST_CASE("grade change is fitted by different segment planes", "[detector]") {
   CHECK(r.centre_x_m == Approx(10.0).margin(3.0));
 }
 
-TEST_CASE("same seed gives the same labels; the detector is reusable", "[detector]") {
+TEST_CASE("same seed gives the same labels, and the detector is reusable", "[detector]") {
   const Scene scene = street();
   const auto sf = test::render(scene);
   DetectorConfig cfg;

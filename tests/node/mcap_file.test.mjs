@@ -55,14 +55,19 @@ test("replay --mcap: the indexed reader opens the file via its summary; every me
     const decode = decoders(reader.schemasById, reader.channelsById);
     const counts = new Map();
     const last = new Map();
+    let lastStatus;
     for await (const m of reader.readMessages()) {
       const topic = reader.channelsById.get(m.channelId).topic;
-      checkDecoded(topic, decode.get(m.channelId)(m.data));
+      const msg = decode.get(m.channelId)(m.data);
+      checkDecoded(topic, msg);
+      if (topic === "/vlpground/status") lastStatus = msg;
       counts.set(topic, (counts.get(topic) ?? 0) + 1);
       assert.ok(m.logTime >= (last.get(topic) ?? 0n), "log times in order per topic");
       last.set(topic, m.logTime);
     }
     for (const t of frameTopics) assert.equal(counts.get(t), frames, `${t}: one message per frame`);
+    assert.ok(counts.get("/vlpground/status") >= 1, "the final status at least");
+    assert.equal(lastStatus.frames.delivered, frames, "the last status has the final counters");
     const stats = reader.statistics;
     let total = 0;
     for (const t of topics) {
@@ -133,22 +138,48 @@ test("a file cut at arbitrary offsets streams up to its last complete frame", ()
   }
 });
 
-test("the recorder killed with SIGKILL mid-run leaves a file that streams up to its last complete frame", async () => {
-  const file = path.join(outDir, "killed.mcap");
-  const child = spawn(process.env.VLPGROUND_CLI, ["replay", pcap, "--loop", "--rate", "1", "--mcap", file], {
-    stdio: "ignore",
+// Starts a looping real-time replay recording to `file`; resolves once `frames` whole frames
+// are on disk (bounded wait).
+async function startRecording(file, frames, extra = []) {
+  const child = spawn(process.env.VLPGROUND_CLI, ["replay", pcap, "--loop", "--rate", "1", "--mcap", file, ...extra], {
+    stdio: ["ignore", "pipe", "ignore"],
   });
-  const exited = new Promise((resolve) => child.on("exit", (code, signal) => resolve(signal)));
-  // Wait (bounded) until at least three frames are on disk, then kill without warning.
+  let stdout = "";
+  child.stdout.on("data", (d) => (stdout += d));
+  // "close": after the exit and the end of its output
+  const exited = new Promise((resolve) => child.on("close", (code, signal) => resolve({ code, signal, stdout })));
   const deadline = Date.now() + 30000;
   let complete = 0;
-  while (complete < 3 * 3 && Date.now() < deadline) {
+  while (complete < frames * 3 && Date.now() < deadline) {
     await new Promise((r) => setTimeout(r, 50));
     if (existsSync(file)) complete = chunkEnds(new Uint8Array(readFileSync(file))).reduce((n, c) => n + c.messages, 0);
   }
+  if (complete < frames * 3) child.kill("SIGKILL");
+  assert.ok(complete >= frames * 3, `${frames} frames recorded before the deadline`);
+  return { child, exited, complete };
+}
+
+test("Ctrl-C (SIGINT) ends the recording with a complete, indexed file holding every delivered frame", async () => {
+  const file = path.join(outDir, "interrupted.mcap");
+  const { child, exited } = await startRecording(file, 3, ["--json"]);
+  child.kill("SIGINT");
+  const { code, stdout } = await exited;
+  assert.equal(code, 0);
+  const delivered = JSON.parse(stdout).frames.delivered;
+  const { reader, close } = await openIndexed(file);
+  try {
+    const points = [...reader.channelsById.values()].find((c) => c.topic === "/vlpground/points").id;
+    assert.equal(reader.statistics.channelMessageCounts.get(points), BigInt(delivered));
+  } finally {
+    await close();
+  }
+});
+
+test("the recorder killed with SIGKILL mid-run leaves a file that streams up to its last complete frame", async () => {
+  const file = path.join(outDir, "killed.mcap");
+  const { child, exited, complete } = await startRecording(file, 3);
   child.kill("SIGKILL");
-  assert.equal(await exited, "SIGKILL");
-  assert.ok(complete >= 9, "three frames were recorded before the deadline");
+  assert.equal((await exited).signal, "SIGKILL");
 
   const bytes = new Uint8Array(readFileSync(file));
   const { records, done } = streamRecords(bytes);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "child_process.hpp"
+#include "cli_helpers.hpp"
 #include "dds_loopback.hpp"
 #include "test_data.hpp"
 #include "udp_sender.hpp"

@@ -137,7 +137,7 @@ TEST_CASE("mount pitch tilts the ground in the sensor frame", "[sim]") {
   CHECK(behind > 100);
 }
 
-TEST_CASE("dual return: pairs share azimuth; second echoes behind canopies", "[sim]") {
+TEST_CASE("dual return: pairs share azimuth, second echoes behind canopies", "[sim]") {
   const Simulator sim(config_for(SceneKind::hills, ReturnMode::dual, 1));
   auto p = std::make_unique<SimulatedPacket>();
   int differing = 0;

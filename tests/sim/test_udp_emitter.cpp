@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+#include <atomic>
 #include <chrono>
 #include <thread>
 #include <cstring>
@@ -191,4 +192,48 @@ TEST_CASE("UDP emitter: a source address not on this host is a clear error", "[s
   UdpStreamConfig udp;
   udp.source_address = "192.0.2.1";  // TEST-NET-1, never assigned here
   CHECK_THROWS_WITH(stream_udp(sim, udp), Catch::Contains("cannot send from '192.0.2.1'"));
+}
+
+TEST_CASE("UDP emitter: a prepared stream restarts its clock at every play", "[sim][udp]") {
+  SimConfig c;
+  c.scene = SceneKind::flat;
+  c.frames = 1;
+  const Simulator sim(c);
+  Receiver data, position;
+  UdpStreamConfig udp;
+  udp.data_port = data.port;
+  udp.position_port = position.port;
+  udp.rate = 8.0;
+  PreparedStream stream(sim);
+  std::vector<std::uint8_t> buf(2048);
+  auto stamp_of_next = [&]() -> std::int64_t {
+    if (::recv(data.fd, buf.data(), buf.size(), 0) != 1206) return -1;
+    return buf[1200] | (std::int64_t{buf[1201]} << 8) | (std::int64_t{buf[1202]} << 16) |
+           (std::int64_t{buf[1203]} << 24);
+  };
+  auto read_stamps = [&](std::uint64_t count) {
+    std::vector<std::int64_t> stamps;
+    for (std::uint64_t i = 0; i < count; ++i) stamps.push_back(stamp_of_next());
+    return stamps;
+  };
+
+  // A looping play: the second pass continues the clock.
+  UdpStreamConfig looping = udp;
+  looping.loop = true;
+  std::atomic<bool> enough{false};
+  std::thread sender([&] { stream.play(looping, [&] { return enough.load(); }); });
+  const std::vector<std::int64_t> first = read_stamps(sim.packet_count() + 3);
+  enough = true;
+  sender.join();
+  REQUIRE(first.back() >= 0);
+  const auto n = static_cast<std::ptrdiff_t>(sim.packet_count());
+  CHECK(first[static_cast<std::size_t>(n)] > first[static_cast<std::size_t>(n - 1)]);
+  while (::recv(data.fd, buf.data(), buf.size(), MSG_DONTWAIT) > 0) {
+  }
+
+  // Playing again starts at the capture's own first stamp: a sensor restart.
+  std::thread again([&] { stream.play(udp); });
+  const std::int64_t restarted = stamp_of_next();
+  again.join();
+  CHECK(restarted == first.front());
 }

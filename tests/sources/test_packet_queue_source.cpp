@@ -63,7 +63,7 @@ TEST_CASE("push source: packets come out in order with port, stamps and sender")
   CHECK(c.records == c.data_packets + c.position_packets + c.skipped());
 }
 
-TEST_CASE("push source: a full queue refuses and counts; close() drains then ends") {
+TEST_CASE("push source: a full queue refuses and counts, close() drains then ends") {
   PushSourceConfig config;
   config.capacity_packets = 3;
   PacketQueueSource q(config);

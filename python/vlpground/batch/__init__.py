@@ -115,7 +115,7 @@ def _output_paths(paths: Sequence[str], out_dir: Path, suffix: str) -> List[Path
 
 
 def label_captures(paths: Iterable[os.PathLike | str], out_dir: os.PathLike | str, *,
-                   client=None, method: str = "tangent", format: str = "npz",
+                   client=None, method: str = vlpground.DEFAULT_METHOD, format: str = "npz",
                    slice_frames: Optional[int] = None, **read_options) -> List[dict]:
     """Labels every capture into ``out_dir/STEM.{npz,csv,parquet}``.
 
@@ -197,7 +197,7 @@ def _label_sliced(client, paths: List[str], outputs: List[str], fmt: str, option
 
 
 def evaluate_captures(pairs: Iterable[Tuple[os.PathLike | str, os.PathLike | str]], *,
-                      client=None, method: str = "tangent", radius_m: float = 40.0,
+                      client=None, method: str = vlpground.DEFAULT_METHOD, radius_m: float = 40.0,
                       out_dir: os.PathLike | str | None = None, **options) -> List[dict]:
     """Scores each (pcap, labels) pair as ``vlpground eval`` does; one task per capture.
 
@@ -213,8 +213,9 @@ def evaluate_captures(pairs: Iterable[Tuple[os.PathLike | str, os.PathLike | str
         caches = [os.fspath(c) for c in
                   _output_paths([p for p, _ in pairs], Path(out_dir), ".eval.json")]
     opts = dict(options, method=method, radius_m=radius_m)
+    resolved = vlpground._detector(method, options.get("extrinsics"), options.get("detector"))
     rows = _run(client, evaluate_one, [(p, l, opts, c) for (p, l), c in zip(pairs, caches)])
-    return rows + [_overall(rows, method, radius_m)]
+    return rows + [_overall(rows, resolved.method, radius_m)]
 
 
 def _overall(rows: Sequence[dict], method: str, radius_m: float) -> dict:

@@ -23,6 +23,14 @@ struct Extrinsics {
   double roll_deg = 0, pitch_deg = 0, yaw_deg = 0;
 };
 
+/// Vehicle-from-sensor transform: p_vehicle = R p_sensor + t, R = Rz(yaw) Ry(pitch) Rx(roll).
+struct RigidTransform {
+  float r[3][3];
+  float t[3];
+};
+/// The transform the detector applies to every return (also for drawing points as it sees them).
+[[nodiscard]] RigidTransform vehicle_from_sensor(const Extrinsics& e);
+
 struct DetectorConfig {
   std::string method = "tangent";  // "tangent" | "ransac" | "lpr"
   Extrinsics extrinsics;

@@ -1,0 +1,181 @@
+// Issue 15, "a command line you can trust": right answers or a clear failure. End-to-end
+// tests of the built `vlpground` executable, one TEST_CASE per item.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "child_process.hpp"
+#include "cli_helpers.hpp"
+#include "test_data.hpp"
+
+using namespace vlpground;
+using test::one_line;
+using test::read_lines;
+using test::run_cli;
+
+namespace {
+
+const std::string kCli = VLPGROUND_CLI;
+
+bool is_one_json_document(const std::string& text) {
+  try {
+    const auto j = nlohmann::json::parse(text);  // throws on anything before or after it
+    return j.is_object();
+  } catch (const nlohmann::json::exception&) {
+    return false;
+  }
+}
+
+}  // namespace
+
+TEST_CASE("15.3 an output that cannot be written fails the run after flushing the others") {
+  const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
+  VLPGROUND_REQUIRE_SHARED(pcap);
+  SECTION("--csv /dev/full") {
+    const auto r = run_cli({kCli, "replay", pcap->string(), "--csv", "/dev/full"});
+    CHECK(r.code == 1);
+    CHECK(one_line(r.err));
+    CHECK(r.err.find("--csv") != std::string::npos);
+    CHECK(r.err.find("No space left") != std::string::npos);
+  }
+  SECTION("a PCD file that cannot be created mid-run") {
+    const auto dir = test::temp_dir("cli_write_fail");
+    std::filesystem::create_directories(dir / "pcd" / "frame_000002.pcd");  // in the way
+    const auto csv = dir / "out.csv";
+    const auto r = run_cli(
+        {kCli, "replay", pcap->string(), "--pcd", (dir / "pcd").string(), "--csv", csv.string()});
+    CHECK(r.code == 1);
+    CHECK(one_line(r.err));
+    CHECK(r.err.find("--pcd") != std::string::npos);
+    CHECK(r.err.find("frame_000002.pcd") != std::string::npos);
+    // The CSV holds every row of the frames delivered before the failure, flushed.
+    const auto lines = read_lines(csv);
+    REQUIRE(lines.size() > 1);
+    CHECK(std::stoi(test::split(lines.back())[0]) >= 2);
+    CHECK(std::filesystem::exists(dir / "pcd" / "frame_000001.pcd"));
+  }
+}
+
+TEST_CASE("15.4 logs go to stderr; with --json stdout is exactly one JSON document") {
+  const auto byte21 = test::shared_file("real", "vlp16_1200rpm_productbyte21.pcap");
+  VLPGROUND_REQUIRE_SHARED(byte21);
+  const auto warned = run_cli({kCli, "replay", byte21->string(), "--json"});
+  CHECK(warned.code == 0);
+  CHECK(is_one_json_document(warned.out));
+  CHECK(warned.err.find("product byte 0x21") != std::string::npos);  // the warning, on stderr
+  const auto sim = test::shared_file("sim", "urban_strongest.pcap");
+  const auto info = run_cli({kCli, "replay", sim->string(), "--json", "--log-level", "debug"});
+  CHECK(info.code == 0);
+  CHECK(is_one_json_document(info.out));
+  CHECK(!info.err.empty());
+  const auto eval = run_cli({kCli, "info", byte21->string(), "--json"});
+  CHECK(is_one_json_document(eval.out));
+}
+
+TEST_CASE("15.7 one rule for output paths") {
+  const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
+  VLPGROUND_REQUIRE_SHARED(pcap);
+  const auto dir = test::temp_dir("cli_paths");
+  SECTION("missing directories are created for every output") {
+    const auto r = run_cli({kCli, "replay", pcap->string(), "--frames", "1", "--csv",
+                            (dir / "a" / "b" / "out.csv").string(), "--pcd",
+                            (dir / "c" / "pcd").string(), "--png", (dir / "d" / "png").string()});
+    CHECK(r.code == 0);
+    CHECK(read_lines(dir / "a" / "b" / "out.csv").size() > 1);
+    CHECK(!std::filesystem::is_empty(dir / "c" / "pcd"));
+    CHECK(!std::filesystem::is_empty(dir / "d" / "png"));
+  }
+  SECTION("--csv - writes the CSV to stdout and the summary to stderr") {
+    const auto r = run_cli({kCli, "replay", pcap->string(), "--frames", "2", "--csv", "-"});
+    CHECK(r.code == 0);
+    CHECK(r.out.rfind("frame,laser_id,ring,", 0) == 0);
+    CHECK(r.out.find("summary") == std::string::npos);
+    CHECK(r.err.find("summary (replay)") != std::string::npos);
+    CHECK(!std::filesystem::exists("-"));
+    const auto both = run_cli({kCli, "replay", pcap->string(), "--csv", "-", "--json"});
+    CHECK(both.code == 2);
+    CHECK(one_line(both.err));
+  }
+  SECTION("sim --out DIR writes inside an existing directory, and creates missing ones") {
+    const auto r = run_cli({kCli, "sim", "flat", "--frames", "1", "--out", dir.string()});
+    CHECK(r.code == 0);
+    CHECK(std::filesystem::exists(dir / "flat.pcap"));
+    CHECK(std::filesystem::exists(dir / "flat.labels"));
+    CHECK(std::filesystem::exists(dir / "flat.json"));
+    const auto nested = dir / "x" / "y" / "run1";
+    CHECK(run_cli({kCli, "sim", "flat", "--frames", "1", "--out", nested.string()}).code == 0);
+    CHECK(std::filesystem::exists(dir / "x" / "y" / "run1.pcap"));
+  }
+}
+
+TEST_CASE("15.8 errors in the user's words; exit 2 for usage errors, 1 for runtime failures") {
+  const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
+  VLPGROUND_REQUIRE_SHARED(pcap);
+  const auto dir = test::temp_dir("cli_words");
+  const auto expect = [](const std::vector<std::string>& args, int code, const std::string& text) {
+    const auto r = run_cli(args);
+    INFO(r.err);
+    CHECK(r.code == code);
+    CHECK(one_line(r.err));
+    CHECK(r.err.find(text) != std::string::npos);
+  };
+  expect({kCli, "sim", "flat", "--frames", "0", "--out", (dir / "s").string()}, 2, "--frames");
+  expect({kCli, "sim", "flat", "--height-m", "-3", "--out", (dir / "s").string()}, 2,
+         "--height-m must be");
+  expect({kCli, "replay", pcap->string(), "--frames", "-1"}, 2, "--frames: must be >= 0");
+  expect({kCli, "replay", pcap->string(), "--calibration", dir.string()}, 1,
+         "--calibration " + dir.string() + ": is a directory");
+  expect({kCli, "eval", pcap->string(), "--labels", dir.string()}, 1,
+         "--labels " + dir.string() + ": is a directory");
+  expect({kCli, "replay", (dir / "missing.pcap").string()}, 1, "no such file");
+  expect({kCli, "replay", pcap->string(), "--extrinsics", "1,2"}, 2, "--extrinsics");
+  // The extrinsics as people type them, with spaces.
+  const auto spaced = run_cli(
+      {kCli, "replay", pcap->string(), "--frames", "1", "--extrinsics", "0, 0, 1.8, 0, 0, 0"});
+  CHECK(spaced.code == 0);
+  SECTION("a port in use is named by its role") {
+    const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    REQUIRE(bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0);
+    socklen_t len = sizeof a;
+    getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+    const std::string busy = std::to_string(ntohs(a.sin_port));
+    const std::string free_port = std::to_string(test::free_udp_port());
+    expect({kCli, "live", "--bind", "127.0.0.1", "--port", free_port, "--position-port", busy},
+           1, "position port " + busy + " on 127.0.0.1 is in use; use --position-port");
+    expect({kCli, "live", "--bind", "127.0.0.1", "--port", busy, "--position-port", "0"}, 1,
+           "data port " + busy + " on 127.0.0.1 is in use");
+    close(fd);
+  }
+  // Both codes are documented in --help.
+  CHECK(run_cli({kCli, "--help"}).out.find("2 usage error") != std::string::npos);
+}
+
+TEST_CASE("15.2 eval refuses labels that do not belong to the capture") {
+  const auto hills = test::project_pcap("hills_demo.pcap");
+  const auto expect_refused = [&](const std::filesystem::path& pcap, const std::string& labels,
+                                  const std::string& text) {
+    const auto r = run_cli({kCli, "eval", pcap.string(), "--labels", labels});
+    INFO(r.err);
+    CHECK(r.code == 1);
+    CHECK(one_line(r.err));
+    CHECK(r.err.find(text) != std::string::npos);
+    CHECK(r.out.find("F1") == std::string::npos);
+  };
+  expect_refused(hills, test::project_pcap("urban_demo.labels").string(),
+                 "labels cover 283 packets (108672 bytes), the capture has 135");
+  expect_refused(hills, "/dev/null", "labels cover 0 packets");
+  // The simulator's JSON beside the capture must describe it too.
+  const auto dir = test::temp_dir("cli_labels");
+  std::filesystem::copy_file(hills, dir / "h.pcap");
+  std::ofstream(dir / "h.json") << R"({"packets": 999, "mount_roll_pitch_deg": [0, 0]})";
+  expect_refused(dir / "h.pcap", test::project_pcap("hills_demo.labels").string(),
+                 "describes 999 packets, the capture has 135");
+  // Its own labels still score.
+  const auto ok = run_cli({kCli, "eval", hills.string(), "--labels",
+                           test::project_pcap("hills_demo.labels").string()});
+  CHECK(ok.code == 0);
+}
