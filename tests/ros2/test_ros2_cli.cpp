@@ -117,8 +117,8 @@ TEST_CASE("replay --ros2 with bad options fails with a one-line reason") {
   CHECK_THAT(r.err, Catch::Contains("--ros2-qos"));
 }
 
-TEST_CASE("live --ros2: UDP frames reach a subscriber with the labels of the same run's CSV; "
-          "Ctrl-C ends cleanly") {
+TEST_CASE("live --ros2: UDP frames reach a subscriber with the labels of the same run's CSV, "
+          "and Ctrl-C ends cleanly") {
   const std::string domain = std::to_string(vlpground::test::confine_dds_to_loopback());
   const auto dir = vlpground::test::temp_dir("ros2_cli_live");
   const std::string csv = (dir / "live.csv").string();
