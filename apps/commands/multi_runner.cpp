@@ -91,6 +91,8 @@ int run_multi_pipeline(RunRequest request, const std::vector<std::string>& specs
     sinks[f.sensor_index]->write(f, sink_errors, [&] { multi->stop(); });
     if (frame_lines) print_frame_line(stdout, f);
   });
+  multi->on_telemetry(
+      [&](std::size_t sensor, const PositionPacket& p) { sinks[sensor]->on_position(p); });
   multi->on_diagnostics([&](std::size_t sensor, const Diagnostic& d) {
     const std::string& name = config.sensors[sensor].name;
     if (d.kind == DiagnosticKind::warning) {

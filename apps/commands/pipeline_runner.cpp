@@ -64,7 +64,7 @@ int run_pipeline(RunRequest request) {
     if (frame_lines) print_frame_line(stdout, f);
   });
   pipeline->on_telemetry([&](const PositionPacket& p) {
-    for (auto& sink : sinks) sink->on_position(p);
+    sinks->on_position(p);
     static constexpr const char* kPps[] = {"absent", "synchronizing", "locked", "error"};
     char line[96];
     std::snprintf(line, sizeof line, "PPS %s, GPRMC %s", kPps[static_cast<int>(p.pps) & 3],

@@ -115,6 +115,10 @@ class SinkSet {
   void on_stats(const PipelineStats& stats) {
     for (auto& sink : sinks_) sink->on_stats(stats);
   }
+  /// On the acquisition thread.
+  void on_position(const PositionPacket& packet) {
+    for (auto& sink : sinks_) sink->on_position(packet);
+  }
   /// After the pipeline ended: the final counters (a recording keeps them), then finish, for
   /// the sinks that have not failed.
   void finish(const PipelineStats& final_stats, SinkErrors& errors) {
