@@ -65,7 +65,8 @@ std::string goal_verdict(const LatencyStats& l) {
 
 void print_frame_line(std::FILE* to, const LabelledFrame& f) {
   const std::uint64_t returns = count_returns(f.frame);
-  std::fprintf(to, "frame %llu: %d columns, %llu returns, %.1f%% ground, %.1f ms detect%s\n",
+  std::fprintf(to, "%s%sframe %llu: %d columns, %llu returns, %.1f%% ground, %.1f ms detect%s\n",
+               f.sensor_name.c_str(), f.sensor_name.empty() ? "" : " ",
                static_cast<unsigned long long>(f.frame.meta.sequence), f.frame.columns(),
                static_cast<unsigned long long>(returns),
                100.0 * share(f.ground.ground_returns, returns), f.timings.detect_ms,

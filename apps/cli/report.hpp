@@ -9,7 +9,8 @@
 
 namespace vlpground::cli {
 
-/// "frame 3: 1808 columns, 28931 returns, 41.2% ground, 1.9 ms detect" into `to`, flushed.
+/// "frame 3: 1808 columns, 28931 returns, 41.2% ground, 1.9 ms detect" into `to`, flushed
+/// (preceded by the sensor name when the frame has one).
 void print_frame_line(std::FILE* to, const LabelledFrame& f);
 
 /// Redraws one progress line (frames, percent of the file, frames/s) on a terminal.

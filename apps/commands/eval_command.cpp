@@ -1,8 +1,6 @@
 // `vlpground eval FILE.pcap --labels FILE.labels [options]`: precision, recall, F1.
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "cli/capture_probe.hpp"
@@ -13,32 +11,6 @@
 namespace vlpground::cli {
 
 namespace {
-
-// The labels (one byte per return slot, 384 per data packet) and the simulator's JSON must
-// describe this capture; labels of another capture would score a meaningless figure.
-void check_labels_match(const SourceCounters& capture, const std::string& labels_path,
-                        const std::filesystem::path& sim_json) {
-  std::ifstream labels(labels_path, std::ios::binary);  // any file, /dev/null included
-  labels.ignore(std::numeric_limits<std::streamsize>::max());
-  const auto bytes = static_cast<std::uint64_t>(labels.gcount());
-  const std::uint64_t labelled = bytes / eval::kSlotsPerPacket;
-  if (bytes % eval::kSlotsPerPacket != 0 || labelled != capture.data_packets) {
-    throw std::runtime_error("--labels " + labels_path + ": labels cover " +
-                             std::to_string(labelled) + " packets (" + std::to_string(bytes) +
-                             " bytes), the capture has " + std::to_string(capture.data_packets));
-  }
-  if (!std::filesystem::exists(sim_json)) return;
-  std::ifstream in(sim_json);
-  const auto j = nlohmann::json::parse(in, nullptr, false);
-  if (!j.is_object() || !j.contains("packets") || !j["packets"].is_number_unsigned()) return;
-  // The simulator counts data packets; older captures counted position packets too.
-  const auto described = j["packets"].get<std::uint64_t>();
-  if (described != capture.data_packets &&
-      described != capture.data_packets + capture.position_packets) {
-    throw std::runtime_error(sim_json.string() + " describes " + std::to_string(described) +
-                             " packets, the capture has " + std::to_string(capture.data_packets));
-  }
-}
 
 class EvalCommand : public Command {
  public:
@@ -85,7 +57,7 @@ class EvalCommand : public Command {
       return kExitFailure;
     }
     const auto sim_json = std::filesystem::path(pcap_path).replace_extension(".json");
-    check_labels_match(probe.counters, labels_path_, sim_json);
+    eval::check_labels_match(probe.counters, labels_path_, sim_json);
     if (extrinsics_->count() == 0 && std::filesystem::exists(sim_json)) {
       config.detector.extrinsics = eval::load_sim_extrinsics(sim_json);
     }

@@ -10,6 +10,7 @@
 
 #include "cli/options.hpp"
 #include "commands/commands.hpp"
+#include "commands/multi_runner.hpp"
 #include "commands/pipeline_runner.hpp"
 
 namespace vlpground::cli {
@@ -56,6 +57,11 @@ class LiveCommand : public Command {
         ->type_name("IP");
     cmd->add_option("--multicast", udp.multicast_group, "join this multicast group (empty: none)")
         ->type_name("GROUP");
+    cmd->add_option("--sensor", sensors_,
+                    "one of several sensors, repeatable: NAME=IP[:PORT][@x,y,z,roll,pitch,yaw] "
+                    "(port default --port, pose default --extrinsics); packets are routed by "
+                    "source address, outputs go per sensor (FILE.NAME.csv, DIR/NAME/)")
+        ->type_name("SPEC");
     cmd->add_option("--duration", request_.duration_s, "stop after this long (0 = no limit)")
         ->type_name("SECONDS")
         ->check(CLI::Range(0.0, 1e9));
@@ -76,6 +82,8 @@ class LiveCommand : public Command {
     if (!request_.config.decoder.calibration_file.empty()) {
       check_input_file("--calibration", request_.config.decoder.calibration_file);
     }
+    // Several sensors: the router binds each sensor's port and names a busy one itself.
+    if (!sensors_.empty()) return run_multi_pipeline(std::move(request_), sensors_);
     if (udp.multicast_group.empty()) {
       check_port_free(udp.bind_address, udp.data_port, "data port", "choose another with --port");
       if (udp.position_port != 0) {
@@ -88,6 +96,7 @@ class LiveCommand : public Command {
 
  private:
   RunRequest request_;
+  std::vector<std::string> sensors_;
 };
 
 }  // namespace

@@ -17,79 +17,10 @@
 #include "cli/options.hpp"
 #include "cli/report.hpp"
 #include "cli/yaml_config.hpp"
+#include "commands/run_support.hpp"
 
 namespace vlpground::cli {
 namespace {
-
-// Blocks SIGINT/SIGTERM/SIGUSR1 in every thread (call before creating any) and turns them,
-// or the deadline, into Pipeline::stop() from a dedicated thread. SIGUSR1 ends the watcher.
-class StopOnSignal {
- public:
-  StopOnSignal() {
-    sigemptyset(&set_);
-    sigaddset(&set_, SIGINT);
-    sigaddset(&set_, SIGTERM);
-    sigaddset(&set_, SIGUSR1);
-    pthread_sigmask(SIG_BLOCK, &set_, nullptr);
-  }
-  void watch(Pipeline& pipeline, double duration_s) {
-    thread_ = std::thread([this, &pipeline, duration_s] {
-      using Clock = std::chrono::steady_clock;
-      const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                               std::chrono::duration<double>(duration_s));
-      bool timed = duration_s > 0;
-      while (true) {
-        int sig = 0;
-        if (timed) {
-          const auto left = std::max(deadline - Clock::now(), Clock::duration::zero());
-          const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(left).count();
-          const timespec limit{static_cast<time_t>(ns / 1'000'000'000),
-                               static_cast<long>(ns % 1'000'000'000)};
-          sig = sigtimedwait(&set_, nullptr, &limit);
-        } else {
-          sig = sigwaitinfo(&set_, nullptr);
-        }
-        if (sig == SIGUSR1) return;
-        if (sig == SIGINT || sig == SIGTERM) {
-          interrupted_ = true;
-          pipeline.stop();
-        } else if (sig == -1 && errno == EAGAIN) {
-          timed = false;  // --duration reached
-          pipeline.stop();
-        }
-      }
-    });
-  }
-  void finish() {
-    if (!thread_.joinable()) return;
-    pthread_kill(thread_.native_handle(), SIGUSR1);
-    thread_.join();
-  }
-  ~StopOnSignal() { finish(); }
-  [[nodiscard]] bool interrupted() const { return interrupted_; }
-
- private:
-  sigset_t set_{};
-  std::thread thread_;
-  std::atomic<bool> interrupted_{false};
-};
-
-// The first error of any sink; the run stops on it.
-class SinkErrors {
- public:
-  void record(const std::string& message) {
-    std::lock_guard lock(mutex_);
-    if (first_.empty()) first_ = message;
-  }
-  [[nodiscard]] std::string first() const {
-    std::lock_guard lock(mutex_);
-    return first_;
-  }
-
- private:
-  mutable std::mutex mutex_;
-  std::string first_;
-};
 
 // Host time from the first packet to the last delivered frame, from the frames' stamps: the
 // first frame began (last_time_ns - first_time_ns) before the packet that completed it.
@@ -135,9 +66,9 @@ int run_pipeline(RunRequest request) {
   if (request.json && request.outputs.csv.path == "-") {
     throw UsageError("--json and --csv - both write to stdout; give --csv a file");
   }
-  std::vector<std::unique_ptr<FrameSink>> sinks;
+  std::unique_ptr<SinkSet> sinks;
   try {
-    sinks = make_sinks(request.outputs, request.config);
+    sinks = std::make_unique<SinkSet>(make_sinks(request.outputs, request.config));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s%s\n", prefix.c_str(), e.what());
     return kExitFailure;
@@ -156,27 +87,17 @@ int run_pipeline(RunRequest request) {
   const bool frame_lines = !terminal && !request.json && console == stdout;
   SinkErrors sink_errors;
   ActiveSpan span;
-  std::vector<FrameSink*> working;  // sinks that have not failed (detection thread only)
-  for (auto& s : sinks) working.push_back(s.get());
   std::atomic<std::uint64_t> warnings{0};
   std::mutex gps_mutex;
   std::string gps;
 
   pipeline->on_frame([&](const LabelledFrame& f) {
-    for (auto*& sink : working) {
-      if (sink == nullptr) continue;
-      try {
-        sink->write(f);
-      } catch (const std::exception& e) {
-        sink_errors.record(e.what());
-        sink = nullptr;
-        pipeline->stop();
-      }
-    }
+    sinks->write(f, sink_errors, [&] { pipeline->stop(); });
     if (frame_lines) print_frame_line(stdout, f);
     span.add(f.frame.meta);
   });
   pipeline->on_telemetry([&](const PositionPacket& p) {
+    sinks->on_position(p);
     static constexpr const char* kPps[] = {"absent", "synchronizing", "locked", "error"};
     char line[96];
     std::snprintf(line, sizeof line, "PPS %s, GPRMC %s", kPps[static_cast<int>(p.pps) & 3],
@@ -212,15 +133,14 @@ int run_pipeline(RunRequest request) {
   if (!request.config.pcap) {
     std::fprintf(stderr, "%slistening on %s\n", prefix.c_str(), describe_input(request).c_str());
   }
-  signals.watch(*pipeline, request.duration_s);
+  signals.watch([&] { pipeline->stop(); }, request.duration_s);
   using Clock = std::chrono::steady_clock;
   auto next_stats = Clock::now() + std::chrono::seconds(1);
   while (!pipeline->wait_for(100)) {
     if (terminal) print_progress(console, pipeline->stats());
     if (Clock::now() >= next_stats) {
       next_stats += std::chrono::seconds(1);
-      const PipelineStats now = pipeline->stats();
-      for (auto& sink : sinks) sink->on_stats(now);
+      sinks->on_stats(pipeline->stats());
     }
   }
   if (terminal) {
@@ -229,16 +149,7 @@ int run_pipeline(RunRequest request) {
   }
   pipeline->wait();
   signals.finish();
-  const PipelineStats final_stats = pipeline->stats();
-  for (std::size_t i = 0; i < sinks.size(); ++i) {
-    if (working[i] == nullptr) continue;  // failed: its error is already recorded
-    try {
-      sinks[i]->on_stats(final_stats);  // the final counters (a recording keeps them)
-      sinks[i]->finish();
-    } catch (const std::exception& e) {
-      sink_errors.record(e.what());
-    }
-  }
+  sinks->finish(pipeline->stats(), sink_errors);
 
   const PipelineStats stats = pipeline->stats();
   SummaryContext context{request.command, describe_input(request), request.config.detector.method,
@@ -258,8 +169,7 @@ int run_pipeline(RunRequest request) {
     std::fprintf(stderr, "%sno packets received on %s%s\n", prefix.c_str(),
                  describe_input(request).c_str(),
                  request.allow_empty ? " (--allow-empty)"
-                                     : "; check the port and --bind, or "
-                                       "pass --allow-empty");
+                                     : "; check the port and --bind, or pass --allow-empty");
     return request.allow_empty ? kExitOk : kExitFailure;
   }
   if (stats.frames_delivered > 0 && stats.ground_returns == 0) {

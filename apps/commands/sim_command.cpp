@@ -136,6 +136,11 @@ class SimCommand : public Command {
         ->check(CLI::Range(0.001, 1000.0))
         ->needs(udp);
     cmd->add_flag("--loop", loop_, "with --udp: repeat until interrupted")->needs(udp);
+    cmd->add_option("--from", from_,
+                    "with --udp: send from this local address (127.0.0.2, 127.0.0.3, ... play "
+                    "several sensors on one machine)")
+        ->type_name("ADDR")
+        ->needs(udp);
   }
 
   int run() override {
@@ -148,6 +153,7 @@ class SimCommand : public Command {
       udp_->position_port = position_port_;
       udp_->rate = rate_;
       udp_->loop = loop_;
+      udp_->source_address = from_;
     }
     try {
       options_.validate();
@@ -182,6 +188,7 @@ class SimCommand : public Command {
   std::uint16_t position_port_ = 0;
   double rate_ = 0;
   bool loop_ = false;
+  std::string from_;
 };
 
 }  // namespace

@@ -28,6 +28,8 @@ class FrameSink {
   /// About once a second, from the runner's main thread, and once more with the final
   /// counters just before finish().
   virtual void on_stats(const PipelineStats& /*stats*/) {}
+  /// Every position packet (PPS, $GPRMC), on the acquisition thread.
+  virtual void on_position(const PositionPacket& /*packet*/) {}
   /// End of the run: flush and close. Throws std::runtime_error with a one-line reason when
   /// the output could not be written.
   virtual void finish() {}

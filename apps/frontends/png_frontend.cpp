@@ -7,7 +7,8 @@ namespace {
 
 class PngSink : public FrameSink {
  public:
-  PngSink(const std::string& dir, double view_radius_m) : writer_(dir, view_radius_m) {}
+  PngSink(const std::string& dir, const PipelineConfig& config)
+      : writer_(dir, config.detector.fit_radius_m, config.sensor_name, config.detector.extrinsics) {}
   void write(const LabelledFrame& f) override {
     writer_.write(f.frame, f.ground, f.timings.detect_ms);
   }
@@ -21,15 +22,16 @@ class PngSink : public FrameSink {
 
 void add_png_options(CLI::App& cmd, PngOptions& o) {
   cmd.add_option("--png", o.dir,
-                 "one picture per frame, DIR/frame_NNNNNN.png: bird's-eye view (ground green, "
-                 "obstacles red) over the range image")
+                 "one picture per frame, DIR/frame_NNNNNN.png: header (sensor, frame, time, ground "
+                 "share), bird's-eye view (ground green, obstacles red) with legend and scale "
+                 "bar, range image; DIR/overview.png plots the run")
       ->type_name("DIR")
       ->group("Outputs");
 }
 
 std::unique_ptr<FrameSink> make_png_sink(const PngOptions& o, const PipelineConfig& config) {
   if (o.dir.empty()) return nullptr;
-  return std::make_unique<PngSink>(o.dir, config.detector.fit_radius_m);
+  return std::make_unique<PngSink>(o.dir, config);
 }
 
 }  // namespace vlpground::cli

@@ -1,6 +1,7 @@
 // Capture-level scoring: pcap -> CaptureReader -> GroundDetector -> FrameScorer.
 #include <chrono>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <vector>
@@ -88,6 +89,30 @@ Extrinsics load_sim_extrinsics(const std::filesystem::path& json_path) {
     throw std::runtime_error("'" + json_path.string() + "': " + ex.what());
   }
   return e;
+}
+
+void check_labels_match(const SourceCounters& capture, const std::filesystem::path& labels_path,
+                        const std::filesystem::path& sim_json) {
+  std::ifstream labels(labels_path, std::ios::binary);  // any file, /dev/null included
+  labels.ignore(std::numeric_limits<std::streamsize>::max());
+  const auto bytes = static_cast<std::uint64_t>(labels.gcount());
+  const std::uint64_t labelled = bytes / kSlotsPerPacket;
+  if (bytes % kSlotsPerPacket != 0 || labelled != capture.data_packets) {
+    throw std::runtime_error("labels file " + labels_path.string() + ": labels cover " +
+                             std::to_string(labelled) + " packets (" + std::to_string(bytes) +
+                             " bytes), the capture has " + std::to_string(capture.data_packets));
+  }
+  if (!std::filesystem::exists(sim_json)) return;
+  std::ifstream in(sim_json);
+  const auto j = nlohmann::json::parse(in, nullptr, false);
+  if (!j.is_object() || !j.contains("packets") || !j["packets"].is_number_unsigned()) return;
+  // The simulator counts data packets; older captures counted position packets too.
+  const auto described = j["packets"].get<std::uint64_t>();
+  if (described != capture.data_packets &&
+      described != capture.data_packets + capture.position_packets) {
+    throw std::runtime_error(sim_json.string() + " describes " + std::to_string(described) +
+                             " packets, the capture has " + std::to_string(capture.data_packets));
+  }
 }
 
 }  // namespace vlpground::eval

@@ -61,8 +61,8 @@ std::uint16_t parse_port(std::string_view text, std::string_view spec) {
 
 }  // namespace
 
-SensorConfig parse_sensor_spec(std::string_view spec) {
-  SensorConfig sensor;
+SensorConfig parse_sensor_spec(std::string_view spec, const SensorConfig& defaults) {
+  SensorConfig sensor = defaults;
   const std::size_t equals = spec.find('=');
   if (equals == std::string_view::npos) bad_spec(spec, "no '='");
   sensor.name = std::string(spec.substr(0, equals));

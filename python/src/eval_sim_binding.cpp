@@ -18,13 +18,28 @@ namespace {
 using py::literals::operator""_a;
 namespace fs = std::filesystem;
 
-// The figures of `vlpground eval --json`, same names.
+// Counters of a whole pass over a capture's packets (no decoding).
+SourceCounters count_packets(const fs::path& pcap) {
+  PcapSourceConfig config;
+  config.path = pcap.string();
+  const auto source = open_pcap_source(config);
+  PacketView view;
+  while (source->next(view, -1) == SourceStatus::packet) {
+  }
+  return source->counters();
+}
+
+// The figures of `vlpground eval --json`, same names, after the same checks.
 py::dict evaluate(const fs::path& pcap, const fs::path& labels, DetectorConfig detector,
                   bool extrinsics_given, double radius_m, int max_frames) {
   if (!(radius_m > 0)) throw py::value_error("radius_m must be > 0");
   if (max_frames < 0) throw py::value_error("max_frames must be >= 0");
   // As the CLI: a simulator capture's mounting pose comes from STEM.json unless given.
   const fs::path sim_json = fs::path(pcap).replace_extension(".json");
+  {
+    py::gil_scoped_release release;
+    eval::check_labels_match(count_packets(pcap), labels, sim_json);
+  }
   if (!extrinsics_given && fs::exists(sim_json)) {
     detector.extrinsics = eval::load_sim_extrinsics(sim_json);
   }

@@ -202,6 +202,12 @@ def test_evaluate_equals_cli_eval(cli):
     assert got["f1"] > 0.99
 
 
+def test_evaluate_refuses_labels_of_another_capture():
+    """As `vlpground eval`: labels (or a simulator JSON) of another capture are an error."""
+    with pytest.raises(RuntimeError, match="labels cover 283 packets .*, the capture has 135"):
+        vlpground.evaluate(PCAPS / "hills_demo.pcap", PCAPS / "urban_demo.labels")
+
+
 def test_simulate_writes_a_readable_capture(tmp_path):
     out = vlpground.simulate("flat", tmp_path / "sub" / "flat", frames=2, seed=3)
     for key in ("pcap", "labels", "json"):

@@ -105,11 +105,21 @@ struct Failures {
 struct FrameChecks {
   std::uint64_t frames = 0, complete = 0, cut_wrong = 0, time_backwards = 0, stream_changes = 0;
   std::uint64_t dual = 0;
-  std::int64_t last_time_ns = 0;
+  std::int64_t last_time_ns = 0, last_first_time_ns = 0;
   std::uint64_t next_sequence = 0;
   bool after_change = true;
   std::string first_time_error;
   std::string first_cut_error;
+
+  // A clock re-base: the first GPS hour (the simulated captures are from 2023) replaced the
+  // host clock's after a frame was already out. It moves time by whole hours, so the step
+  // from the previous frame's start is a whole number of hours plus at most a rotation.
+  bool rebased(const FrameMeta& m) const {
+    constexpr std::int64_t kHourNs = 3'600'000'000'000;
+    const std::int64_t back = last_first_time_ns - m.first_time_ns;
+    const std::int64_t rest = back % kHourNs;
+    return back >= kHourNs && (rest < 1'000'000'000 || kHourNs - rest < 1'000'000'000);
+  }
 
   void check(const Frame& f) {
     ++frames;
@@ -120,7 +130,8 @@ struct FrameChecks {
     // router stalled across the restart, so the frame in progress ended by the clock first),
     // also when the frame that ended there was dropped (a gap in the sequence numbers).
     const bool gap = m.sequence != next_sequence;
-    if (m.first_time_ns < last_time_ns && !after_change && !gap && time_backwards++ == 0) {
+    if (m.first_time_ns < last_time_ns && !after_change && !gap && !rebased(m) &&
+        time_backwards++ == 0) {
       char text[160];
       std::snprintf(text, sizeof text, "frame %llu starts %.3f s before the previous one ended",
                     static_cast<unsigned long long>(m.sequence),
@@ -128,6 +139,7 @@ struct FrameChecks {
       first_time_error = text;
     }
     last_time_ns = m.last_time_ns;
+    last_first_time_ns = m.first_time_ns;
     next_sequence = m.sequence + 1;
     after_change = m.end == FrameEnd::stream_change || m.end == FrameEnd::silence;
     if (!m.complete || m.end != FrameEnd::cut) return;

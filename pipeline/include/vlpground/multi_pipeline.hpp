@@ -36,9 +36,9 @@ struct SensorConfig {
 };
 
 /// Parses "NAME=IP[:PORT][@x,y,z,roll,pitch,yaw]" (IPv6 in brackets with a port:
-/// "rear=[fe80::1]:2369"). The position port stays at its default. Throws
-/// std::invalid_argument with a message naming the bad part.
-SensorConfig parse_sensor_spec(std::string_view spec);
+/// "rear=[fe80::1]:2369"). What the spec leaves out (data port, pose; the position port
+/// always) comes from `defaults`. Throws std::invalid_argument naming the bad part.
+SensorConfig parse_sensor_spec(std::string_view spec, const SensorConfig& defaults = {});
 
 struct MultiPipelineConfig {
   std::vector<SensorConfig> sensors;

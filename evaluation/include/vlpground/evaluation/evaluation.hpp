@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "vlpground/detector/ground_detector.hpp"
+#include "vlpground/driver/packet_source.hpp"
 #include "vlpground/frame.hpp"
 
 namespace vlpground::eval {
@@ -165,5 +166,12 @@ std::vector<CaptureScore> score_capture(const std::filesystem::path& pcap_path,
 /// Extrinsics from a simulator `STEM.json` (mounting roll/pitch, sensor height), so the
 /// vehicle frame has z = 0 on the ground under the sensor. Throws std::runtime_error.
 Extrinsics load_sim_extrinsics(const std::filesystem::path& json_path);
+
+/// Refuses ground truth that belongs to another capture (it would score a meaningless
+/// figure): throws std::runtime_error unless `labels_path` holds 384 bytes per data packet
+/// of a capture with `capture`'s counters, and, when `sim_json` exists, its "packets" count
+/// describes the capture too. Every front-end's `eval` calls it before scoring.
+void check_labels_match(const SourceCounters& capture, const std::filesystem::path& labels_path,
+                        const std::filesystem::path& sim_json);
 
 }  // namespace vlpground::eval

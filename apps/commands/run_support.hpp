@@ -1,0 +1,141 @@
+// What the runners (one sensor: pipeline_runner.cpp, several: multi_runner.cpp) share:
+// Ctrl-C and --duration turned into a stop call from a dedicated thread, and the first error
+// of any frame sink.
+#pragma once
+
+#include <pthread.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <ctime>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "frontends/frame_sink.hpp"
+
+namespace vlpground::cli {
+
+// Blocks SIGINT/SIGTERM/SIGUSR1 in every thread (call before creating any) and turns them,
+// or the deadline, into a stop call from a dedicated thread. SIGUSR1 ends the watcher.
+class StopOnSignal {
+ public:
+  StopOnSignal() {
+    sigemptyset(&set_);
+    sigaddset(&set_, SIGINT);
+    sigaddset(&set_, SIGTERM);
+    sigaddset(&set_, SIGUSR1);
+    pthread_sigmask(SIG_BLOCK, &set_, nullptr);
+  }
+  /// `stop` runs on the watcher thread.
+  void watch(std::function<void()> stop, double duration_s) {
+    thread_ = std::thread([this, stop = std::move(stop), duration_s] {
+      using Clock = std::chrono::steady_clock;
+      const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                               std::chrono::duration<double>(duration_s));
+      bool timed = duration_s > 0;
+      while (true) {
+        int sig = 0;
+        if (timed) {
+          const auto left = std::max(deadline - Clock::now(), Clock::duration::zero());
+          const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(left).count();
+          const timespec limit{static_cast<time_t>(ns / 1'000'000'000),
+                               static_cast<long>(ns % 1'000'000'000)};
+          sig = sigtimedwait(&set_, nullptr, &limit);
+        } else {
+          sig = sigwaitinfo(&set_, nullptr);
+        }
+        if (sig == SIGUSR1) return;
+        if (sig == SIGINT || sig == SIGTERM) {
+          interrupted_ = true;
+          stop();
+        } else if (sig == -1 && errno == EAGAIN) {
+          timed = false;  // --duration reached
+          stop();
+        }
+      }
+    });
+  }
+  void finish() {
+    if (!thread_.joinable()) return;
+    pthread_kill(thread_.native_handle(), SIGUSR1);
+    thread_.join();
+  }
+  ~StopOnSignal() { finish(); }
+  [[nodiscard]] bool interrupted() const { return interrupted_; }
+
+ private:
+  sigset_t set_{};
+  std::thread thread_;
+  std::atomic<bool> interrupted_{false};
+};
+
+// The first error of any sink; the run stops on it.
+class SinkErrors {
+ public:
+  void record(const std::string& message) {
+    std::lock_guard lock(mutex_);
+    if (first_.empty()) first_ = message;
+  }
+  [[nodiscard]] std::string first() const {
+    std::lock_guard lock(mutex_);
+    return first_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::string first_;
+};
+
+/// Frame sinks of one pipeline; a sink that throws is recorded, left out from then on, and
+/// `stop` is called. write() runs on that pipeline's detection thread only.
+class SinkSet {
+ public:
+  explicit SinkSet(std::vector<std::unique_ptr<FrameSink>> sinks) : sinks_(std::move(sinks)) {
+    for (auto& s : sinks_) working_.push_back(s.get());
+  }
+  void write(const LabelledFrame& f, SinkErrors& errors, const std::function<void()>& stop) {
+    for (auto*& sink : working_) {
+      if (sink == nullptr) continue;
+      try {
+        sink->write(f);
+      } catch (const std::exception& e) {
+        errors.record(e.what());
+        sink = nullptr;
+        stop();
+      }
+    }
+  }
+  void on_stats(const PipelineStats& stats) {
+    for (auto& sink : sinks_) sink->on_stats(stats);
+  }
+  /// On the acquisition thread.
+  void on_position(const PositionPacket& packet) {
+    for (auto& sink : sinks_) sink->on_position(packet);
+  }
+  /// After the pipeline ended: the final counters (a recording keeps them), then finish, for
+  /// the sinks that have not failed.
+  void finish(const PipelineStats& final_stats, SinkErrors& errors) {
+    for (std::size_t i = 0; i < sinks_.size(); ++i) {
+      if (working_[i] == nullptr) continue;  // failed: its error is already recorded
+      try {
+        sinks_[i]->on_stats(final_stats);
+        sinks_[i]->finish();
+      } catch (const std::exception& e) {
+        errors.record(e.what());
+      }
+    }
+  }
+
+ private:
+  std::vector<std::unique_ptr<FrameSink>> sinks_;
+  std::vector<FrameSink*> working_;
+};
+
+}  // namespace vlpground::cli

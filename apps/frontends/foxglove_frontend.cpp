@@ -1,0 +1,121 @@
+#include "frontends/foxglove_frontend.hpp"
+
+#include <charconv>
+#include <chrono>
+#include <cstdio>
+#include <stdexcept>
+
+#if VLPGROUND_HAVE_VIZ
+#include "vlpground/viz/channels.hpp"
+#include "vlpground/viz/foxglove_server.hpp"
+#endif
+
+namespace vlpground::cli {
+
+std::pair<std::string, std::uint16_t> parse_listen_address(const std::string& text) {
+  std::string address = kDefaultFoxgloveAddress;
+  std::string port = text;
+  if (const auto colon = text.rfind(':'); colon != std::string::npos) {
+    address = text.substr(0, colon);
+    port = text.substr(colon + 1);
+    if (address.size() >= 2 && address.front() == '[' && address.back() == ']') {
+      address = address.substr(1, address.size() - 2);  // [IPv6]
+    }
+  }
+  unsigned value = 0;
+  const auto [end, ec] = std::from_chars(port.data(), port.data() + port.size(), value);
+  if (port.empty() || ec != std::errc() || end != port.data() + port.size() || value > 65535) {
+    throw std::invalid_argument("expects [ADDR:]PORT with PORT 0..65535, got '" + text + "'");
+  }
+  if (address.empty()) throw std::invalid_argument("empty address in '" + text + "'");
+  return {address, static_cast<std::uint16_t>(value)};
+}
+
+void add_foxglove_options(CLI::App& cmd, FoxgloveOptions& o) {
+  cmd.add_option("--foxglove", o.listen,
+                 "serve the frames live to Foxglove (WebSocket, ws://ADDR:PORT) and a "
+                 "bird's-eye web page (http://ADDR:PORT/); ADDR defaults to 127.0.0.1, "
+                 "Foxglove's usual port is 8765, 0 picks a free one (docs/foxglove.md)")
+      ->type_name("[ADDR:]PORT")
+      ->check([](const std::string& text) {
+        try {
+          parse_listen_address(text);
+          return std::string();
+        } catch (const std::invalid_argument& e) {
+          return std::string(e.what());
+        }
+      })
+      ->group("Outputs");
+}
+
+#if VLPGROUND_HAVE_VIZ
+namespace {
+
+std::int64_t now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+// Encodes only the channels someone subscribed to, and hands them to the server thread;
+// never blocks the detection thread on a client.
+class FoxgloveSink : public FrameSink {
+ public:
+  FoxgloveSink(viz::FrameEncoderConfig encoder, viz::ServerConfig server)
+      : encoder_(std::move(encoder)), server_(std::move(server), encoder_.channels()) {
+    publish_ = [this](std::size_t channel, std::int64_t t, std::span<const std::byte> bytes) {
+      server_.publish(channel, t, bytes);
+    };
+  }
+  [[nodiscard]] std::uint16_t port() const { return server_.port(); }
+
+  void write(const LabelledFrame& f) override {
+    const viz::ChannelMask wanted = server_.subscribed() & ~(viz::ChannelMask{1} << viz::kStatusChannel);
+    if (wanted != 0) encoder_.encode(f, publish_, wanted);
+  }
+  void on_stats(const PipelineStats& stats) override {
+    if ((server_.subscribed() >> viz::kStatusChannel & 1u) != 0) {
+      encoder_.encode_status(stats, now_ns(), publish_);
+    }
+  }
+  void on_position(const PositionPacket& p) override { encoder_.note_position(p); }
+
+ private:
+  viz::FrameEncoder encoder_;
+  viz::FoxgloveServer server_;
+  viz::MessageSink publish_;
+};
+
+}  // namespace
+
+std::unique_ptr<FrameSink> make_foxglove_sink(const FoxgloveOptions& o,
+                                              const PipelineConfig& config) {
+  if (o.listen.empty()) return nullptr;
+  const auto [address, port] = parse_listen_address(o.listen);
+  viz::FrameEncoderConfig encoder;
+  encoder.extrinsics = config.detector.extrinsics;
+  viz::ServerConfig server;
+  server.address = address;
+  server.port = port;
+  auto sink = std::make_unique<FoxgloveSink>(std::move(encoder), std::move(server));
+  const std::string host = address.find(':') != std::string::npos ? "[" + address + "]" : address;
+  std::fprintf(stderr,
+               "vlpground: Foxglove live view on ws://%s:%u (Foxglove: Open connection), "
+               "web page http://%s:%u/\n",
+               host.c_str(), sink->port(), host.c_str(), sink->port());
+  return sink;
+}
+
+#else
+
+std::unique_ptr<FrameSink> make_foxglove_sink(const FoxgloveOptions& o,
+                                              const PipelineConfig& /*config*/) {
+  if (o.listen.empty()) return nullptr;
+  throw std::runtime_error(
+      "this vlpground was built without vlpground::viz (libprotobuf, protoc, nlohmann-json, "
+      "Boost.Beast), which serves the live view");
+}
+
+#endif
+
+}  // namespace vlpground::cli
