@@ -93,6 +93,14 @@ void add_detector_options(CLI::App& cmd, PipelineConfig& config) {
                  "floor or desk)")
       ->check(CLI::Range(0.0, d.max_sensor_height_m - 0.01))
       ->group(group);
+  cmd.add_option_function<std::string>(
+         "--terrain-refinement",
+         [&d](const std::string& v) { d.terrain_refinement = v == "on"; },
+         "tangent method: follow rolling and curved terrain with cells (on), or the paper's "
+         "four planes alone (off)")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->default_str("on")
+      ->group(group);
 }
 
 void add_frames_option(CLI::App& cmd, std::uint64_t& frames) {

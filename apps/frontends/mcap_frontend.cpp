@@ -55,6 +55,8 @@ class McapSink : public FrameSink {
       if (status_error_.empty()) status_error_ = e.what();
     }
   }
+  // Acquisition thread: PPS and GPRMC state for the status channel.
+  void on_position(const PositionPacket& packet) override { recorder_.note_position(packet); }
   void finish() override {
     rethrow_status_error();
     recorder_.close();

@@ -70,6 +70,7 @@ void Binning::select(const Cloud& cloud, const GridSpec& grid, const Tangents& t
   cand.start.clear();
   for (auto* v : {&cand.x, &cand.y, &cand.z, &cand.tx, &cand.ty, &cand.tz})
     if (v->size() < sorted_.size() + 1) v->resize(sorted_.size() + 1);
+  if (cand.ring.size() < sorted_.size() + 1) cand.ring.resize(sorted_.size() + 1);
   stamp_.resize(idx(std::max(1, grid.sub * grid.sub)));
   const std::uint32_t no_sub = grid.sub > 0 ? 0u : 1u;  // without sub-sampling every cell is new
   Index k = 0;
@@ -94,6 +95,7 @@ void Binning::select(const Cloud& cloud, const GridSpec& grid, const Tangents& t
       cand.x[k] = cloud.x[i];
       cand.y[k] = cloud.y[i];
       cand.z[k] = cloud.z[i];
+      cand.ring[k] = static_cast<std::uint8_t>(cloud.ring[i]);
       cand.tx[k] = ground_like ? tangents.x[i] : 0.f;
       cand.ty[k] = ground_like ? tangents.y[i] : 0.f;
       cand.tz[k] = ground_like ? tangents.z[i] : kNoTangentZ;

@@ -61,6 +61,9 @@ void DetectorConfig::validate() const {
   require(finite(label_below_m) && label_below_m > 0, "label_below_m", "must be > 0");
   require(finite(label_growth_per_m) && label_growth_per_m >= 0 && label_growth_per_m < 1,
           "label_growth_per_m", "must be in [0, 1)");
+  require(finite(refinement_cell_m) && refinement_cell_m >= bin_size_m &&
+              refinement_cell_m <= 20,
+          "refinement_cell_m", "must be in [bin_size_m, 20] m");
 }
 
 void GroundResult::reserve(int capacity_columns) {

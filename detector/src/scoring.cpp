@@ -10,6 +10,7 @@ namespace vlpground::detail {
 
 void Candidates::clear() {
   for (auto* v : {&x, &y, &z, &tx, &ty, &tz}) v->clear();
+  ring.clear();
   start.clear();
 }
 

@@ -12,6 +12,7 @@ namespace vlpground::detail {
 /// [start[s], start[s + 1]). A return without a usable tangent has t = (0, 0, kNoTangentZ).
 struct Candidates {
   std::vector<float> x, y, z, tx, ty, tz;
+  std::vector<std::uint8_t> ring;  // the return's ring (terrain refinement counts rings)
   std::vector<std::int32_t> start;
   [[nodiscard]] std::size_t slots() const { return start.empty() ? 0 : start.size() - 1; }
   void clear();

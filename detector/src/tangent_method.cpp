@@ -16,6 +16,7 @@
 #include "scoring.hpp"
 #include "steep.hpp"
 #include "tangents.hpp"
+#include "terrain_cells.hpp"
 
 namespace vlpground::detail {
 
@@ -44,6 +45,9 @@ constexpr int kMinGroundRings = 3;
 // distance of the line: the cut is quantised to bins and found by score, the terrain break
 // is neither.
 constexpr float kSoftBoundaryBins = 2.0f;
+// The terrain refinement looks for the vehicle's ground out to this multiple of the
+// distance where the steepest ring meets it.
+constexpr float kNearReach = 1.5f;
 
 class TangentMethod final : public Method {
  public:
@@ -234,6 +238,10 @@ class TangentMethod final : public Method {
       rule.sin_label = std::sin(2.0f * static_cast<float>(cfg_.tangent_angle_deg) * kDegToRad);
       rule.soft_m = soft_m_;
       label_points(cloud, facts(), segment_planes(out, false), rule, ground_, height_);
+      if (cfg_.terrain_refinement) {
+        cells_.fit(cand_, bin_slot_, segment_planes(out, false), cell_params());
+        cells_.relabel(cloud, facts(), rule, ground_, height_);
+      }
     }
     constexpr auto kGround = static_cast<std::uint8_t>(GroundLabel::ground);
     constexpr auto kObstacle = static_cast<std::uint8_t>(GroundLabel::obstacle);
@@ -248,6 +256,35 @@ class TangentMethod final : public Method {
         if (any) out.height_m[1][cell] = height_[i];
       }
     }
+  }
+
+  [[nodiscard]] CellParams cell_params() const {
+    CellParams p;
+    p.bins = bins_;
+    p.bin_m = bin_;
+    p.x_lo = origin_x_ - half_;
+    p.y_lo = origin_y_ - half_;
+    p.cell_bins = std::max(1, static_cast<int>(std::lround(cfg_.refinement_cell_m / cfg_.bin_size_m)));
+    p.eps = eps_;
+    p.sin_delta = std::sin(2.0f * static_cast<float>(cfg_.tangent_angle_deg) * kDegToRad);
+    p.sensor_x = origin_x_;
+    p.sensor_y = origin_y_;
+    p.sensor_z = static_cast<float>(cfg_.extrinsics.z_m);
+    p.min_sensor_height_m = static_cast<float>(cfg_.min_sensor_height_m);
+    p.max_sensor_height_m = static_cast<float>(cfg_.max_sensor_height_m);
+    p.min_nz = std::cos(static_cast<float>(cfg_.max_tilt_deg) * kDegToRad);
+    p.label_up_m = label_up_;
+    p.label_down_m = label_down_;
+    // Around the vehicle: out to 1.5 x where the steepest ring meets the ground under the
+    // mounting height (10 m for a VLP-16 at 1.8 m, 15 m for a Puck Hi-Res), at least 10 m.
+    const float steepest = *std::max_element(ring_slopes_.begin(), ring_slopes_.end());
+    const float height = std::max(p.sensor_z, 1.8f);
+    if (steepest > 0.f) {
+      p.blind_m = height / steepest;
+      p.near_m = std::max(p.near_m, kNearReach * p.blind_m);
+    }
+    p.seed = cfg_.seed;
+    return p;
   }
 
   DetectorConfig cfg_;
@@ -268,6 +305,7 @@ class TangentMethod final : public Method {
   PlaneSet planes_;
   std::vector<std::int32_t> scores_;
   SearchScratch search_scratch_;
+  TerrainCells cells_;
   bool own_[4] = {false, false, false, false};
   std::vector<std::uint8_t> support_, ground_;
   std::vector<float> height_;

@@ -167,7 +167,8 @@ struct MultiPipeline::Impl {
   std::thread router_thread;
   std::atomic<bool> stop_requested{false};
   std::atomic<bool> router_done{false};
-  bool started = false;
+  std::atomic<bool> started{false};
+  std::mutex start_mutex;  // start() against stop() from other threads
   std::mutex diagnostics_mutex;
   SensorDiagnosticsCallback diagnostics_cb;
 
@@ -253,15 +254,17 @@ void MultiPipeline::on_telemetry(
 }
 
 void MultiPipeline::start() {
+  std::lock_guard lock(impl_->start_mutex);  // stop() from another thread waits for the router
   if (impl_->started) throw std::logic_error("MultiPipeline::start() called twice");
+  impl_->router = open_udp_router(router_config(impl_->config));  // throws: not started
   impl_->started = true;
-  impl_->router = open_udp_router(router_config(impl_->config));
   impl_->publish_counters();
   for (auto& p : impl_->pipelines) p->start();
   impl_->router_thread = std::thread([this] { impl_->route(); });
 }
 
 void MultiPipeline::stop() {
+  std::lock_guard lock(impl_->start_mutex);
   impl_->stop_requested = true;
   if (impl_->router) impl_->router->request_stop();  // the router then closes the queues
 }

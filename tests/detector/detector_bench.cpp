@@ -39,7 +39,9 @@ void bm_detect(benchmark::State& state, const std::string& stem, const std::stri
     return;
   }
   DetectorConfig cfg;
-  cfg.method = method;
+  // "tangent-paper": the paper's method without terrain refinement, for comparison.
+  cfg.method = method == "tangent-paper" ? "tangent" : method;
+  cfg.terrain_refinement = method != "tangent-paper";
   GroundDetector det(cfg);
   GroundResult result;
   det.detect(frames->front(), result);  // warm-up: sizes every workspace
@@ -72,7 +74,7 @@ void bm_detect(benchmark::State& state, const std::string& stem, const std::stri
 void register_all() {
   for (const char* stem : {"flat_strongest", "urban_strongest", "slope_strongest", "jam_strongest",
                            "fences_strongest", "flat_dual", "jam_dual", "flat_20hz"}) {
-    for (const char* method : {"tangent", "ransac", "lpr"}) {
+    for (const char* method : {"tangent", "tangent-paper", "ransac", "lpr"}) {
       benchmark::RegisterBenchmark((std::string("detect/") + method + "/" + stem).c_str(),
                                    [s = std::string(stem), m = std::string(method)](
                                        benchmark::State& st) { bm_detect(st, s, m); })

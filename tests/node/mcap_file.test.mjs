@@ -184,6 +184,7 @@ test("the recorder killed with SIGKILL mid-run leaves a file that streams up to 
   const bytes = new Uint8Array(readFileSync(file));
   const { records, done } = streamRecords(bytes);
   assert.equal(done, false, "no footer: the writer never finished");
+  await assert.rejects(openIndexed(file), "no summary: the indexed reader refuses it");
   const messages = records.filter((r) => r.type === "Message");
   assert.equal(messages.length, chunkEnds(bytes).reduce((n, c) => n + c.messages, 0));
   assert.ok(messages.length >= complete);

@@ -29,8 +29,13 @@ export async function openIndexed(path) {
       return buffer;
     },
   };
-  const reader = await McapIndexedReader.Initialize({ readable, decompressHandlers });
-  return { reader, close: () => handle.close() };
+  try {
+    const reader = await McapIndexedReader.Initialize({ readable, decompressHandlers });
+    return { reader, close: () => handle.close() };
+  } catch (e) {
+    await handle.close();
+    throw e;
+  }
 }
 
 /// Every record the streaming reader yields from `bytes` (a whole or cut-short file), and

@@ -188,3 +188,69 @@ TEST_CASE("multi pipeline: two sensors on one port, routed, tagged, own extrinsi
   CHECK(d[0] == Approx(1.8).margin(0.1));
   CHECK(d[1] == Approx(0.8).margin(0.1));
 }
+
+TEST_CASE("multi pipeline: pull each sensor's frames with sensor(i).next()", "[multi][udp]") {
+  sim::SimConfig sim_config;
+  sim_config.scene = sim::SceneKind::flat;
+  sim_config.frames = 3;
+  const sim::Simulator sim(sim_config);
+  const auto [data_port, position_port] = test::free_port_pair();
+  MultiPipelineConfig config;
+  config.bind_address = "127.0.0.1";
+  for (const char* spec : {"a=127.0.0.2", "b=127.0.0.3"}) {
+    config.sensors.push_back(parse_sensor_spec(spec));
+    config.sensors.back().data_port = data_port;
+    config.sensors.back().position_port = position_port;
+  }
+  config.pipeline.detector.hypotheses = 60;
+  MultiPipeline multi(config);  // no frame callback: pull mode
+  multi.start();
+  std::thread senders[2];
+  for (int i = 0; i < 2; ++i) {
+    senders[i] = std::thread([&, i] {
+      sim::UdpStreamConfig c;
+      c.data_port = data_port;
+      c.position_port = position_port;
+      c.rate = 4.0;
+      c.source_address = i == 0 ? "127.0.0.2" : "127.0.0.3";
+      (void)sim::stream_udp(sim, c);
+    });
+  }
+  std::vector<FrameLease> held[2];
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while ((held[0].size() < 3 || held[1].size() < 3) && std::chrono::steady_clock::now() < deadline) {
+    for (std::size_t s = 0; s < 2; ++s) {
+      if (held[s].size() >= 3) continue;
+      if (FrameLease f = multi.sensor(s).next(std::chrono::milliseconds(20))) {
+        held[s].push_back(std::move(f));
+      }
+    }
+  }
+  for (auto& t : senders) t.join();
+  for (std::size_t s = 0; s < 2; ++s) {
+    REQUIRE(held[s].size() >= 3);
+    for (const FrameLease& f : held[s]) {
+      CHECK(f->sensor_index == s);
+      CHECK(f->sensor_name == config.sensors[s].name);
+    }
+  }
+  held[0].clear();
+  held[1].clear();
+  multi.stop();
+  CHECK(multi.wait_for(10'000));
+}
+
+TEST_CASE("multi pipeline: a port in use fails start() with a clear error", "[multi][udp]") {
+  const std::uint16_t port = test::free_port();
+  MultiPipelineConfig config;
+  config.bind_address = "127.0.0.1";
+  config.sensors = {parse_sensor_spec("a=127.0.0.2:" + std::to_string(port))};
+  config.sensors[0].position_port = 0;
+  MultiPipeline first(config);
+  first.start();
+  MultiPipeline second(config);
+  CHECK_THROWS_WITH(second.start(), Catch::Contains("is already in use"));
+  CHECK(second.wait_for(0));  // never started: nothing to wait for
+  first.stop();
+  CHECK(first.wait_for(10'000));
+}

@@ -1,8 +1,9 @@
 // Soak and fault test: a MultiPipeline on loopback fed by the simulator's emitter at 10x real
 // time for N seconds, faults injected, every counter checked at the end.
 //
-//   front (127.0.0.2): an urban capture in strongest mode, then a dual one, again and again:
-//                      a mode switch and a sensor restart (time jumps back) at every change;
+//   front (127.0.0.2): an urban capture in strongest mode, then a dual one continuing its
+//                      clock (a mode switch mid-stream), then the strongest one again (a
+//                      sensor restart: time jumps back), and so on;
 //   rear  (127.0.0.3): a traffic-jam capture replayed again and again (a restart each time);
 //   both:              loss, reordering, truncated packets and junk datagrams of every size
 //                      (0..2199 bytes), interleaved on one data port;
@@ -170,12 +171,14 @@ struct FrameChecks {
   }
 };
 
-sim::Simulator make_sim(sim::SceneKind scene, ReturnMode mode, std::uint64_t seed) {
+sim::Simulator make_sim(sim::SceneKind scene, ReturnMode mode, std::uint64_t seed,
+                        std::int64_t start_utc_ns = sim::kDefaultStartUtcNs) {
   sim::SimConfig c;
   c.scene = scene;
   c.mode = mode;
   c.seed = seed;
   c.frames = 10;  // 1 s of capture: 0.1 s at 10x, so modes and restarts change often
+  c.start_utc_ns = start_utc_ns;
   return sim::Simulator(c);
 }
 
@@ -188,8 +191,13 @@ int main(int argc, char** argv) {
   while (position_port == data_port) position_port = free_port();
 
   std::fprintf(stderr, "soak: preparing captures\n");
-  sim::PreparedStream front_strongest(make_sim(sim::SceneKind::urban, ReturnMode::strongest, 1));
-  sim::PreparedStream front_dual(make_sim(sim::SceneKind::urban, ReturnMode::dual, 3));
+  const sim::Simulator strongest = make_sim(sim::SceneKind::urban, ReturnMode::strongest, 1);
+  const std::int64_t strongest_end_ns =
+      sim::kDefaultStartUtcNs +
+      static_cast<std::int64_t>(strongest.packet_count()) * strongest.packet_period_ns();
+  sim::PreparedStream front_strongest(strongest);
+  sim::PreparedStream front_dual(
+      make_sim(sim::SceneKind::urban, ReturnMode::dual, 3, strongest_end_ns));
   sim::PreparedStream rear(make_sim(sim::SceneKind::jam, ReturnMode::strongest, 2));
 
   MultiPipelineConfig config;

@@ -56,6 +56,13 @@ struct DetectorConfig {
   double label_below_m = 0.5;          //   and down to this under it
   double label_growth_per_m = 0.02;    // beyond fit_radius_m both grow by this per metre
 
+  // Terrain refinement ("tangent" only; docs/detector.md): where the four partition planes
+  // do not explain the ground (rolling or curved terrain, embankments), square cells of
+  // this side get surfaces of their own, grown outwards from the sensor. false: the paper's
+  // method alone.
+  bool terrain_refinement = true;
+  double refinement_cell_m = 4.0;
+
   /// Throws std::invalid_argument naming the bad field and its valid range.
   void validate() const;
 };

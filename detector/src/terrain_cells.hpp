@@ -1,0 +1,115 @@
+// Second level of the tangent method's terrain model (docs/detector.md, "Terrain
+// refinement"): where the four planes of the cross partition do not explain the ground
+// (rolling terrain, an embankment, a bank, a bowl, a crest, a ramp), square cells of the
+// fitting grid get a surface of their own, grown outwards from the cell under the sensor.
+// Each cell corrects the surface of the neighbour it was reached from by a small
+// regularised least-squares fit on its eq. 3 inliers; a cell whose surface stays within a
+// tolerance of its level-1 segment plane keeps that plane (and the paper's labels).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "hypotheses.hpp"
+#include "labelling.hpp"
+#include "scoring.hpp"
+
+namespace vlpground::detail {
+
+/// A non-vertical plane z = c + gx x + gy y (vehicle frame).
+struct HeightPlane {
+  float c = 0, gx = 0, gy = 0;
+  [[nodiscard]] float at(float x, float y) const { return c + gx * x + gy * y; }
+  static HeightPlane from(const Plane& p);
+};
+
+struct CellParams {
+  int bins = 80;          // B of the fitting grid
+  float bin_m = 1.f;      // bin side
+  float x_lo = -40.f;     // grid corner (vehicle frame)
+  float y_lo = -40.f;
+  int cell_bins = 4;      // cell side in bins
+  float eps = 0.2f;       // eq. 3 distance of the fit
+  float sin_delta = 0.f;  // eq. 3 angle of the fit (reference surface's normal)
+  // A cell's candidates are looked for this far under / over its reference surface.
+  float window_down_m = 0.8f, window_up_m = 0.5f;
+  // Bounds of a cell's correction of its reference (checks scale with cell size):
+  // |offset at the cell centre| <= offset_m + offset_per_m * cell side,
+  // |gradient change| <= gradient_change, and at most max_gradient overall.
+  float offset_m = 0.1f, offset_per_m = 0.1f, gradient_change = 0.35f, max_gradient = 0.62f;
+  float search_gradient_change = 0.5f;  // the same bound for the in-cell hypothesis search
+  int min_points = 8;
+  float keep_m = 0.1f;  // a fit this close to the level-1 plane at every corner keeps it
+  float label_up_m = 0.18f, label_down_m = 0.5f;  // the level-1 label band
+  // The surface under the sensor: min..max under it, found among the returns within
+  // near_m when the level-1 plane explains less than half of them (embankments).
+  float sensor_x = 0, sensor_y = 0, sensor_z = 0;
+  float min_sensor_height_m = 0.5f, max_sensor_height_m = 5.f;
+  float near_m = 10.f;
+  // Cells nearer than this to the sensor (under the steepest ring) have no ground returns:
+  // they take the vehicle's surface.
+  float blind_m = 7.f;
+  float min_nz = 0.978f;  // cos(max tilt) of the plane under the sensor
+  std::uint64_t seed = 1;
+};
+
+enum class CellState : std::uint8_t { unvisited, level1, refined, inherited };
+
+/// Histogram search of the densest window: the lowest window of `width` consecutive bins
+/// whose count reaches `share` of the largest window count (share 1: the first densest).
+/// Returns its first bin, or -1 when no window has `min_count`.
+int densest_window(const std::uint16_t* hist, int bins, int width, float share, int min_count);
+/// Plain form of densest_window (every window summed from scratch), for tests.
+int densest_window_reference(const std::uint16_t* hist, int bins, int width, float share,
+                             int min_count);
+
+class TerrainCells {
+ public:
+  /// Builds every cell's surface from the level-1 segment planes `level1`. bin_slot maps
+  /// bins to candidate slots (-1: empty).
+  void fit(const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
+           const SegmentPlanes& level1, const CellParams& params);
+
+  /// Relabels the returns of cells whose surface is not their level-1 plane (same label
+  /// rule as label_points; near a cell edge the neighbour's surface may accept too).
+  void relabel(const Cloud& cloud, const PointFacts& facts, const LabelRule& rule,
+               std::vector<std::uint8_t>& ground, std::vector<float>& height) const;
+
+  [[nodiscard]] int cells_per_side() const { return side_; }
+  [[nodiscard]] CellState state(int cell) const { return state_[static_cast<std::size_t>(cell)]; }
+  [[nodiscard]] const HeightPlane& surface(int cell) const {
+    return surface_[static_cast<std::size_t>(cell)];
+  }
+  /// Cells whose surface replaces the level-1 plane in labels.
+  [[nodiscard]] int replaced_cells() const { return replaced_; }
+
+ private:
+  struct Fit;
+  HeightPlane vehicle_seed(const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
+                           const Plane& level1);
+  int near_inliers(const Candidates& cand, const Plane& p, PlaneFit* fit) const;
+  [[nodiscard]] bool plausible_under_sensor(const Plane& p) const;
+  [[nodiscard]] bool at_mounting_height(const Plane& p) const;
+  bool fit_cell(int cell, const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
+                const HeightPlane& ref, float border_x, float border_y, HeightPlane& out);
+  bool fit_layer(int cell, const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
+                 const HeightPlane& ref, HeightPlane& out) const;
+  bool search_cell(int cell, const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
+                   const HeightPlane& ref, HeightPlane& out);
+  [[nodiscard]] bool close(int cell, const HeightPlane& a, const HeightPlane& b) const;
+  void explained_segments(const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
+                          const SegmentPlanes& level1);
+  [[nodiscard]] int cell_of(float x, float y) const;
+  [[nodiscard]] bool near_vehicle(int cell) const;
+
+  CellParams p_;
+  int side_ = 0, replaced_ = 0;
+  std::vector<HeightPlane> surface_;
+  std::vector<CellState> state_;
+  std::vector<std::uint8_t> replace_;
+  bool segment_explained_[4] = {false, false, false, false};
+  std::vector<std::int32_t> queue_, near_, cell_pts_;
+};
+
+}  // namespace vlpground::detail
