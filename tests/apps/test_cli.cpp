@@ -278,7 +278,8 @@ TEST_CASE("live over loopback UDP labels like replay, and SIGINT ends a run clea
   CHECK(differing == 0);
 
   test::ChildProcess idle({kCli, "live", "--bind", "127.0.0.1", "--port",
-                           std::to_string(free_udp_port()), "--position-port", "0"});
+                           std::to_string(free_udp_port()), "--position-port", "0",
+                           "--allow-empty"});
   REQUIRE(idle.wait_for_stderr("listening", 20'000));
   idle.signal(SIGINT);
   CHECK(idle.wait_exit(20'000) == 0);
