@@ -32,8 +32,9 @@ export async function startCli(args, timeoutMs = 20000) {
 /// A connected reference client that collects serverInfo, the advertised channels and
 /// decoded messages per topic. `subscribeAll`: subscribe to every channel once advertised.
 export function connectClient(url, { subscribeAll = true } = {}) {
-  const client = new FoxgloveClient({ ws: new WebSocket(url, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]) });
-  const state = { client, serverInfo: null, channels: new Map(), bySub: new Map(), messages: new Map(),
+  const ws = new WebSocket(url, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]);
+  const client = new FoxgloveClient({ ws });
+  const state = { client, ws, serverInfo: null, channels: new Map(), bySub: new Map(), messages: new Map(),
                   statuses: [], closed: false, decoders: new Map() };
   client.on("serverInfo", (info) => (state.serverInfo = info));
   client.on("status", (s) => state.statuses.push(s));

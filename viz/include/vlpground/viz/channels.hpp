@@ -7,8 +7,8 @@
 //   2 /vlpground/range_image  foxglove.RawImage (protobuf): 16 x N, rgb8, coloured by label
 //   3 /vlpground/status       JSON: counters, rates, detect time, latency, GPS/PPS state
 //
-// Thread-safety: one FrameEncoder per thread for encode() / encode_status();
-// note_position() may be called from any thread.
+// Thread-safety: encode() and encode_status() share nothing, so each may run on its own
+// thread (one call at a time each); note_position() may be called from any thread.
 #pragma once
 
 #include <cstddef>
