@@ -300,3 +300,21 @@ TEST_CASE("15.1 one sign convention: tilted simulator captures score through eva
     }
   }
 }
+
+TEST_CASE("15.12 docs/cli.md is the reference generated from the parser") {
+  const auto r = run_cli({kCli, "help", "--all-markdown"});
+  REQUIRE(r.code == 0);
+  std::ifstream in(std::filesystem::path(VLPGROUND_SOURCE_DIR) / "docs" / "cli.md");
+  const std::string committed((std::istreambuf_iterator<char>(in)),
+                              std::istreambuf_iterator<char>());
+  INFO("regenerate it: cmake --build build --target cli_docs");
+  CHECK(committed == r.out);
+  // It documents what users asked about.
+  for (const char* text : {"| `--frames` |", "## vlpground sim", "## vlpground info",
+                           "`--frames 0` means every frame", "label` is 0 no return, 1 ground",
+                           "column `return`", "sensor frame", "Exit status", "--version",
+                           "help SUBCOMMAND"}) {
+    INFO(text);
+    CHECK(r.out.find(text) != std::string::npos);
+  }
+}
