@@ -318,3 +318,32 @@ TEST_CASE("15.12 docs/cli.md is the reference generated from the parser") {
     CHECK(r.out.find(text) != std::string::npos);
   }
 }
+
+TEST_CASE("15.9 info: verdicts only where they mean something, rpm of short captures") {
+  const auto real = [](const char* name) { return test::shared_file("real", name); };
+  const auto position_only = real("vlp16_one_position_packet.pcap");
+  VLPGROUND_REQUIRE_SHARED(position_only);
+  const auto info = [](const std::filesystem::path& p, std::vector<std::string> extra = {}) {
+    std::vector<std::string> args{kCli, "info", p.string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_cli(args);
+  };
+  const auto none = info(*position_only);
+  CHECK(none.out.find("none (no data packets)") != std::string::npos);
+  CHECK(none.out.find("NOT agree") == std::string::npos);
+  const auto none_json = nlohmann::json::parse(info(*position_only, {"--json"}).out);
+  CHECK(none_json["product_byte_agrees_with_timing"].is_null());
+  // An HDL-32E whose byte and timing agree.
+  const auto hdl = info(*real("hdl32e_short.pcap"));
+  CHECK(hdl.out.find("0x21 (HDL-32E, agrees with the packet timing)") != std::string::npos);
+  // Short captures without a complete rotation still get their rpm.
+  const auto fair = nlohmann::json::parse(
+      info(*real("vlp16_county_fair_productbyte21.pcap"), {"--json"}).out);
+  CHECK(fair["rpm"].get<double>() == Approx(600).margin(10));
+  const auto slow = info(*real("vlp16_short.pcap"));
+  CHECK(slow.out.find("rpm            0.0") == std::string::npos);
+  CHECK(slow.out.find("1 truncated") != std::string::npos);  // truncated records shown
+  CHECK(info(*real("vlp16_one_packet.pcap")).out.find("(1 frame with") != std::string::npos);
+  // --model is accepted as by replay.
+  CHECK(info(*real("vlp16_short.pcap"), {"--model", "vlp16"}).code == 0);
+}
