@@ -70,8 +70,9 @@ void add_detector_options(CLI::App& cmd, PipelineConfig& config) {
   cmd.add_option_function<std::vector<std::string>>(
          "--extrinsics",
          [&d](const std::vector<std::string>& v) { d.extrinsics = parse_extrinsics(v); },
-         "sensor pose in the vehicle frame: x,y,z (m), roll,pitch,yaw (deg); points, "
-         "planes and heights are then in the vehicle frame. " +
+         "sensor pose in the vehicle frame: x,y,z (m), roll,pitch,yaw (deg); the "
+         "detector's planes and heights are then in the vehicle frame (CSV/PCD points stay "
+         "in the sensor frame). " +
              std::string(kFrameConvention))
       ->type_name("X,Y,Z,ROLL,PITCH,YAW")
       ->expected(1, 6)
