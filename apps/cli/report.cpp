@@ -24,6 +24,43 @@ double frames_per_s(const PipelineStats& s) {
   return s.elapsed_s > 0 ? static_cast<double>(s.frames_delivered) / s.elapsed_s : 0.0;
 }
 
+double span_s(const PipelineStats& s, const SummaryContext& c) {
+  return c.active_s >= 0 ? c.active_s : s.elapsed_s;
+}
+
+double frames_per_s(const PipelineStats& s, const SummaryContext& c) {
+  const double span = span_s(s, c);
+  return span > 0 ? static_cast<double>(s.frames_delivered) / span : 0.0;
+}
+
+// "p50 1.20 ms, p99 3.40 ms, max 4.00 ms (512 samples)", percentiles only with enough samples.
+std::string describe_latency(const LatencyStats& l) {
+  if (l.samples == 0) return "no samples";
+  std::string text;
+  char part[96];
+  if (l.samples >= kMinSamplesP50) {
+    std::snprintf(part, sizeof part, "p50 %.2f ms, ", l.p50_ms);
+    text += part;
+  }
+  if (l.samples >= kMinSamplesP99) {
+    std::snprintf(part, sizeof part, "p99 %.2f ms, ", l.p99_ms);
+    text += part;
+  }
+  std::snprintf(part, sizeof part, "max %.2f ms, mean %.2f ms (%llu samples)", l.max_ms, l.mean_ms,
+                static_cast<unsigned long long>(l.samples));
+  return text + part;
+}
+
+// The live latency goal is judged only on enough samples.
+std::string goal_verdict(const LatencyStats& l) {
+  constexpr double kGoalMs = 10.0;
+  if (l.samples < kMinSamplesP99) {
+    return " (goal p99 < 10 ms: not judged, " + std::to_string(l.samples) + " samples < " +
+           std::to_string(kMinSamplesP99) + ")";
+  }
+  return l.p99_ms < kGoalMs ? " (goal p99 < 10 ms: met)" : " (goal p99 < 10 ms: MISSED)";
+}
+
 }  // namespace
 
 void print_frame_line(std::FILE* to, const LabelledFrame& f) {
@@ -72,15 +109,22 @@ void print_summary_table(std::FILE* to, const PipelineStats& s, const SummaryCon
   if (s.live) std::fprintf(to, "  %-12s %llu\n", "kernel drops", u(src.kernel_drops));
   std::fprintf(to, "  %-12s %llu, %.1f%% ground\n", "returns", u(s.returns),
                100.0 * share(s.ground_returns, s.returns));
-  std::fprintf(to, "  %-12s p50 %.2f ms, p99 %.2f ms, max %.2f ms\n", "detect", s.detect.p50_ms,
-               s.detect.p99_ms, s.detect.max_ms);
-  std::fprintf(to, "  %-12s p50 %.2f ms, p99 %.2f ms, max %.2f ms%s\n", "latency", s.latency.p50_ms,
-               s.latency.p99_ms, s.latency.max_ms,
-               s.live ? (s.latency.p99_ms < 10.0 ? " (goal p99 < 10 ms: met)"
-                                                 : " (goal p99 < 10 ms: MISSED)")
-                      : " (replay: includes queueing)");
-  std::fprintf(to, "  %-12s %.1f frames/s over %.2f s\n", "throughput", frames_per_s(s),
-               s.elapsed_s);
+  std::fprintf(to, "  %-12s %s\n", "detect", describe_latency(s.detect).c_str());
+  std::fprintf(to, "  %-12s %s%s\n", "latency", describe_latency(s.latency).c_str(),
+               s.live ? goal_verdict(s.latency).c_str() : " (replay: includes queueing)");
+  if (s.silence_frames > 0) {
+    std::fprintf(to,
+                 "  %-12s %llu frame%s ended by the silence timeout, latency up to %.2f ms "
+                 "(not in the latency above)\n",
+                 "", u(s.silence_frames), s.silence_frames == 1 ? "" : "s",
+                 s.silence_latency_max_ms);
+  }
+  if (s.frames_delivered == 0) {
+    std::fprintf(to, "  %-12s no frames\n", "throughput");
+  } else {
+    std::fprintf(to, "  %-12s %.1f frames/s over %.2f s%s\n", "throughput", frames_per_s(s, c),
+                 span_s(s, c), c.active_s >= 0 ? " from the first packet" : "");
+  }
   if (!c.gps.empty()) std::fprintf(to, "  %-12s %s\n", "gps", c.gps.c_str());
   if (c.warnings > 0) std::fprintf(to, "  %-12s %llu (see log)\n", "warnings", u(c.warnings));
   std::fflush(to);
@@ -91,11 +135,15 @@ std::string summary_json(const PipelineStats& s, const SummaryContext& c) {
   const auto& dec = s.capture.decoder;
   const auto& as = s.capture.assembler;
   const auto latency = [](const LatencyStats& l) {
+    // Percentiles are null without enough samples (kMinSamplesP50, kMinSamplesP99).
+    const auto value = [](double v, bool known) {
+      return known ? nlohmann::json(v) : nlohmann::json();
+    };
     return nlohmann::json{{"samples", l.samples},
-                          {"p50_ms", l.p50_ms},
-                          {"p99_ms", l.p99_ms},
-                          {"max_ms", l.max_ms},
-                          {"mean_ms", l.mean_ms}};
+                          {"p50_ms", value(l.p50_ms, l.samples >= kMinSamplesP50)},
+                          {"p99_ms", value(l.p99_ms, l.samples >= kMinSamplesP99)},
+                          {"max_ms", value(l.max_ms, l.samples > 0)},
+                          {"mean_ms", value(l.mean_ms, l.samples > 0)}};
   };
   nlohmann::json j = {
       {"command", c.command},
@@ -125,8 +173,11 @@ std::string summary_json(const PipelineStats& s, const SummaryContext& c) {
       {"ground_returns", s.ground_returns},
       {"ground_share", share(s.ground_returns, s.returns)},
       {"timings", {{"detect", latency(s.detect)}, {"latency", latency(s.latency)}}},
+      {"silence_frames",
+       {{"count", s.silence_frames}, {"latency_max_ms", s.silence_latency_max_ms}}},
       {"elapsed_s", s.elapsed_s},
-      {"frames_per_s", frames_per_s(s)},
+      {"active_s", span_s(s, c)},
+      {"frames_per_s", frames_per_s(s, c)},
       {"warnings", c.warnings},
   };
   if (!c.gps.empty()) j["gps"] = c.gps;

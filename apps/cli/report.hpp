@@ -22,7 +22,14 @@ struct SummaryContext {
   std::string method;
   std::string gps;  // last telemetry state, empty when none
   std::uint64_t warnings = 0;
+  // Seconds from the first packet to the last delivered frame (live); < 0: use elapsed_s.
+  double active_s = -1.0;
 };
+
+/// Percentiles need samples: p50 from kMinSamplesP50, p99 (and a verdict on the latency goal)
+/// from kMinSamplesP99; below that, only the count, mean and maximum are reported.
+inline constexpr std::uint64_t kMinSamplesP50 = 10;
+inline constexpr std::uint64_t kMinSamplesP99 = 100;
 
 void print_summary_table(std::FILE* to, const PipelineStats& s, const SummaryContext& c);
 std::string summary_json(const PipelineStats& s, const SummaryContext& c);

@@ -29,8 +29,8 @@ void check_port_free(const std::string& address, std::uint16_t port, const char*
     throw std::runtime_error("--bind " + address + ": not a numeric IPv4 or IPv6 address");
   }
   const int fd = socket(found->ai_family, found->ai_socktype, 0);
-  const bool in_use = fd >= 0 && bind(fd, found->ai_addr, found->ai_addrlen) != 0 &&
-                      errno == EADDRINUSE;
+  const bool in_use =
+      fd >= 0 && bind(fd, found->ai_addr, found->ai_addrlen) != 0 && errno == EADDRINUSE;
   if (fd >= 0) close(fd);
   freeaddrinfo(found);
   if (in_use) {
@@ -68,6 +68,8 @@ class LiveCommand : public Command {
     cmd->add_flag_function(
         "--no-drop", [this](std::int64_t) { request_.config.backpressure = Backpressure::block; },
         "block instead of dropping the oldest frame when the detector lags");
+    cmd->add_flag("--allow-empty", request_.allow_empty,
+                  "exit 0 when no packet was received (else exit 1)");
     add_run_options(*cmd, request_);
   }
 
@@ -83,8 +85,7 @@ class LiveCommand : public Command {
     // Several sensors: the router binds each sensor's port and names a busy one itself.
     if (!sensors_.empty()) return run_multi_pipeline(std::move(request_), sensors_);
     if (udp.multicast_group.empty()) {
-      check_port_free(udp.bind_address, udp.data_port, "data port",
-                      "choose another with --port");
+      check_port_free(udp.bind_address, udp.data_port, "data port", "choose another with --port");
       if (udp.position_port != 0) {
         check_port_free(udp.bind_address, udp.position_port, "position port",
                         "use --position-port (0 = ignore position packets)");

@@ -22,6 +22,37 @@
 namespace vlpground::cli {
 namespace {
 
+// Host time from the first packet to the last delivered frame, from the frames' stamps: the
+// first frame began (last_time_ns - first_time_ns) before the packet that completed it.
+class ActiveSpan {
+ public:
+  void add(const FrameMeta& m) {
+    if (m.completed_receive_ns <= 0) return;
+    std::lock_guard lock(mutex_);
+    if (first_ns_ == 0) first_ns_ = m.completed_receive_ns - (m.last_time_ns - m.first_time_ns);
+    last_ns_ = m.completed_receive_ns;
+  }
+  [[nodiscard]] double seconds() const {
+    std::lock_guard lock(mutex_);
+    return first_ns_ == 0 ? 0.0 : static_cast<double>(last_ns_ - first_ns_) * 1e-9;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::int64_t first_ns_ = 0, last_ns_ = 0;
+};
+
+// One line saying why a run found no ground at all, with the settings that decide it.
+std::string no_ground_reason(const DetectorConfig& d) {
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "no ground in any frame: no plane found %.2f..%.2f m under the sensor "
+                "(--min-sensor-height) tilted at most %.0f deg; a sensor on a desk or floor "
+                "needs --min-sensor-height 0, a tilted mount its roll and pitch in --extrinsics",
+                d.min_sensor_height_m, d.max_sensor_height_m, d.max_tilt_deg);
+  return text;
+}
+
 std::string describe_input(const RunRequest& r) {
   if (r.config.pcap) return "pcap " + r.config.pcap->path;
   return "udp " + r.config.udp.bind_address + ":" + std::to_string(r.config.udp.data_port);
@@ -55,6 +86,7 @@ int run_pipeline(RunRequest request) {
   const bool terminal = isatty(fileno(console)) != 0 && !request.json;
   const bool frame_lines = !terminal && !request.json && console == stdout;
   SinkErrors sink_errors;
+  ActiveSpan span;
   std::atomic<std::uint64_t> warnings{0};
   std::mutex gps_mutex;
   std::string gps;
@@ -62,6 +94,7 @@ int run_pipeline(RunRequest request) {
   pipeline->on_frame([&](const LabelledFrame& f) {
     sinks->write(f, sink_errors, [&] { pipeline->stop(); });
     if (frame_lines) print_frame_line(stdout, f);
+    span.add(f.frame.meta);
   });
   pipeline->on_telemetry([&](const PositionPacket& p) {
     sinks->on_position(p);
@@ -121,6 +154,7 @@ int run_pipeline(RunRequest request) {
   const PipelineStats stats = pipeline->stats();
   SummaryContext context{request.command, describe_input(request), request.config.detector.method,
                          gps, warnings.load()};
+  if (stats.live) context.active_s = span.seconds();
   if (request.json) {
     std::printf("%s\n", summary_json(stats, context).c_str());
   } else {
@@ -130,6 +164,17 @@ int run_pipeline(RunRequest request) {
   if (const std::string error = sink_errors.first(); !error.empty()) {
     std::fprintf(stderr, "%s%s\n", prefix.c_str(), error.c_str());
     return kExitFailure;
+  }
+  if (stats.live && stats.capture.source.data_packets == 0) {
+    std::fprintf(stderr, "%sno packets received on %s%s\n", prefix.c_str(),
+                 describe_input(request).c_str(),
+                 request.allow_empty ? " (--allow-empty)"
+                                     : "; check the port and --bind, or pass --allow-empty");
+    return request.allow_empty ? kExitOk : kExitFailure;
+  }
+  if (stats.frames_delivered > 0 && stats.ground_returns == 0) {
+    std::fprintf(stderr, "%s%s\n", prefix.c_str(),
+                 no_ground_reason(request.config.detector).c_str());
   }
   if (stats.frames_delivered == 0 && stats.capture.source.data_packets > 0 &&
       !signals.interrupted()) {

@@ -17,6 +17,7 @@ struct RunRequest {
   bool json = false;               // summary as JSON on stdout
   std::string log_level = "warn";  // spdlog level name
   double duration_s = 0.0;         // 0 = no time limit
+  bool allow_empty = false;        // live: receiving nothing is not an error
 };
 
 /// The options replay and live share: detector, limits, outputs, --json, --log-level, --config.

@@ -116,8 +116,11 @@ class SimCommand : public Command {
     cmd->add_option_function<double>(
            "--speed-mps", [&c](double v) { c.speed_mps = v; }, "forward speed (m/s)")
         ->default_str("drawn from the seed");
-    cmd->add_option("--roll-deg", c.mount_roll_deg, "mounting roll (deg)");
-    cmd->add_option("--pitch-deg", c.mount_pitch_deg, "mounting pitch (deg)");
+    cmd->add_option("--roll-deg", c.mount_roll_deg,
+                    "mounting roll, right-handed about x (forward): > 0 = left side up (deg)");
+    cmd->add_option("--pitch-deg", c.mount_pitch_deg,
+                    "mounting pitch, right-handed about y (left): > 0 = nose down (deg); "
+                    "STEM.json and eval use the same convention as --extrinsics");
     CLI::Option* udp = cmd->add_option_function<std::string>(
                               "--udp",
                               [this](const std::string& v) {

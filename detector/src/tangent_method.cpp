@@ -264,7 +264,8 @@ class TangentMethod final : public Method {
     p.bin_m = bin_;
     p.x_lo = origin_x_ - half_;
     p.y_lo = origin_y_ - half_;
-    p.cell_bins = std::max(1, static_cast<int>(std::lround(cfg_.refinement_cell_m / cfg_.bin_size_m)));
+    p.cell_bins =
+        std::max(1, static_cast<int>(std::lround(cfg_.refinement_cell_m / cfg_.bin_size_m)));
     p.eps = eps_;
     p.sin_delta = std::sin(2.0f * static_cast<float>(cfg_.tangent_angle_deg) * kDegToRad);
     p.sensor_x = origin_x_;

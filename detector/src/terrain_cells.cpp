@@ -1,12 +1,12 @@
 #include "terrain_cells.hpp"
 
-#include "hypotheses.hpp"
-
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <limits>
 #include <utility>
+
+#include "hypotheses.hpp"
 
 namespace vlpground::detail {
 
@@ -16,31 +16,33 @@ using Index = std::size_t;
 
 Index idx(int v) { return static_cast<Index>(v); }
 
-constexpr float kHistBin_m = 0.05f;    // residual histogram of a cell
-constexpr int kCellHist = 64;          // covers window_down + window_up (<= 3.2 m)
-constexpr int kModeBins = 6;           // the densest 0.3 m of a cell's residuals
-constexpr int kLayerMinPoints = 4;    // the lowest layer: this many returns in its window
-constexpr float kModeShare = 0.f;      // lowest window with min_points (lower envelope)
-constexpr int kNearTrials = 48;           // planes sampled from the returns around the sensor
-constexpr float kNearMinArea_m2 = 1.f;    // as the paper's hypotheses
+constexpr float kHistBin_m = 0.05f;          // residual histogram of a cell
+constexpr int kCellHist = 64;                // covers window_down + window_up (<= 3.2 m)
+constexpr int kModeBins = 6;                 // the densest 0.3 m of a cell's residuals
+constexpr int kLayerMinPoints = 4;           // the lowest layer: this many returns in its window
+constexpr float kModeShare = 0.f;            // lowest window with min_points (lower envelope)
+constexpr int kNearTrials = 48;              // planes sampled from the returns around the sensor
+constexpr float kNearMinArea_m2 = 1.f;       // as the paper's hypotheses
 constexpr float kMountingTolerance = 0.15f;  // share of the mounting height
-constexpr float kLevel1Share = 0.8f;      // level 1 kept under the sensor with this share
-constexpr float kRidgeShare = 0.1f;    // gradient ridge: this share of a spread cell's moment
-constexpr float kRidgeFloor_m2 = 1.f;  //   plus this (a cell crossed by one ring)
+constexpr float kLevel1Share = 0.8f;         // level 1 kept under the sensor with this share
+constexpr float kRidgeShare = 0.1f;          // gradient ridge: this share of a spread cell's moment
+constexpr float kRidgeFloor_m2 = 1.f;        //   plus this (a cell crossed by one ring)
 constexpr float kSoftEdge_m = 1.f;
-constexpr float kExplainedShare = 0.9f;  // a segment's band holds this share of its low returns
-constexpr float kPlausibleBelow_m = 3.f;   // low returns counted from this far under level 1
-constexpr float kPlausibleAbove_m = 3.f;   //   to this far over it
-constexpr int kCellTrials = 24;        // planes sampled per cell by search_cell
+constexpr float kExplainedShare = 0.9f;   // a segment's band holds this share of its low returns
+constexpr float kPlausibleBelow_m = 3.f;  // low returns counted from this far under level 1
+constexpr float kPlausibleAbove_m = 3.f;  //   to this far over it
+constexpr int kCellTrials = 24;           // planes sampled per cell by search_cell
 constexpr float kCellMinArea_m2 = 0.5f;
-constexpr float kBelow_m = 0.3f;       // as the paper's below penalty (below_distance_m)
+constexpr float kBelow_m = 0.3f;  // as the paper's below penalty (below_distance_m)
 constexpr int kBelowPenalty = 2;
 constexpr int kSearchRings = 3;
 constexpr float kSingleRingOffset_m = 0.25f;  // fit_layer: largest step on a single ring
 constexpr float kFewRingsFrom = 2.f;  // beyond this many near_m, two rings (the reach of the rings)
-constexpr int kSeedRings = 3;          // vehicle_seed: rings among the inliers        // search_cell: rings among the inliers
+constexpr int kSeedRings =
+    3;  // vehicle_seed: rings among the inliers        // search_cell: rings among the inliers
 constexpr float kLayerBorderStep_m = 0.5f;  // ... for a correction of the reference
-constexpr float kBorderStep_m = 0.25f;  // largest step to the reference where they meet     // within this of a cell edge the neighbour may accept
+constexpr float kBorderStep_m = 0.25f;      // largest step to the reference where they meet     //
+                                            // within this of a cell edge the neighbour may accept
 
 float absolute(float v) { return v < 0 ? -v : v; }
 
@@ -138,8 +140,10 @@ int densest_window_reference(const std::uint16_t* hist, int bins, int width, flo
 }
 
 int TerrainCells::cell_of(float x, float y) const {
-  const int col = std::clamp(static_cast<int>(std::floor((x - p_.x_lo) / p_.bin_m)), 0, p_.bins - 1);
-  const int row = std::clamp(static_cast<int>(std::floor((y - p_.y_lo) / p_.bin_m)), 0, p_.bins - 1);
+  const int col =
+      std::clamp(static_cast<int>(std::floor((x - p_.x_lo) / p_.bin_m)), 0, p_.bins - 1);
+  const int row =
+      std::clamp(static_cast<int>(std::floor((y - p_.y_lo) / p_.bin_m)), 0, p_.bins - 1);
   return (row / p_.cell_bins) * side_ + col / p_.cell_bins;
 }
 
@@ -208,7 +212,8 @@ void TerrainCells::explained_segments(const Candidates& cand,
     in_band[s] += (h < p_.label_up_m) & (h > -p_.label_down_m) ? 1 : 0;
   }
   for (int s = 0; s < 4; ++s)
-    segment_explained_[s] = static_cast<float>(in_band[s]) >= kExplainedShare * static_cast<float>(low[s]);
+    segment_explained_[s] =
+        static_cast<float>(in_band[s]) >= kExplainedShare * static_cast<float>(low[s]);
 }
 
 bool TerrainCells::close(int cell, const HeightPlane& a, const HeightPlane& b) const {
@@ -286,7 +291,8 @@ bool TerrainCells::search_cell(int cell, const Candidates& cand,
       pt[2] = cand.z[i];
     }
     Plane h;
-    if (!plane_from_points(pts[0], pts[1], pts[2], h, kCellMinArea_m2) || !allowed(HeightPlane::from(h)))
+    if (!plane_from_points(pts[0], pts[1], pts[2], h, kCellMinArea_m2) ||
+        !allowed(HeightPlane::from(h)))
       continue;
     const int score = net_score(h, nullptr, nullptr);
     if (score > best_score) {
@@ -331,8 +337,8 @@ bool TerrainCells::fit_layer(int cell, const Candidates& cand,
   // 2. Two least-squares corrections: around the layer, then around the first fit.
   const float side_m = static_cast<float>(p_.cell_bins) * p_.bin_m;
   double corr[3] = {
-      static_cast<double>(-p_.window_down_m + (static_cast<float>(first) + 0.5f * kModeBins) *
-                                                  kHistBin_m),
+      static_cast<double>(-p_.window_down_m +
+                          (static_cast<float>(first) + 0.5f * kModeBins) * kHistBin_m),
       0.0, 0.0};
   std::uint32_t rings = 0;
   for (int pass = 0; pass < 2; ++pass) {
@@ -432,8 +438,8 @@ HeightPlane TerrainCells::vehicle_seed(const Candidates& cand,
       pt[2] = cand.z[i];
     }
     Plane h;
-    if (!plane_from_points(pts[0], pts[1], pts[2], h, kNearMinArea_m2) || !plausible_under_sensor(h) ||
-        !at_mounting_height(h))
+    if (!plane_from_points(pts[0], pts[1], pts[2], h, kNearMinArea_m2) ||
+        !plausible_under_sensor(h) || !at_mounting_height(h))
       continue;
     const int count = near_inliers(cand, h, nullptr);
     if (count > best_count) {
@@ -441,13 +447,15 @@ HeightPlane TerrainCells::vehicle_seed(const Candidates& cand,
       best = h;
     }
   }
-  if (best_count < p_.min_points || static_cast<float>(own) >= kLevel1Share * static_cast<float>(best_count))
+  if (best_count < p_.min_points ||
+      static_cast<float>(own) >= kLevel1Share * static_cast<float>(best_count))
     return HeightPlane::from(level1);
   for (int pass = 0; pass < 2; ++pass) {  // least squares on the inliers, twice
     PlaneFit fit;
     near_inliers(cand, best, &fit);
     Plane refined;
-    if (!fit.solve(refined) || !plausible_under_sensor(refined) || !at_mounting_height(refined)) break;
+    if (!fit.solve(refined) || !plausible_under_sensor(refined) || !at_mounting_height(refined))
+      break;
     best = refined;
   }
   return HeightPlane::from(best);
@@ -470,13 +478,21 @@ void TerrainCells::fit(const Candidates& cand, const std::vector<std::int32_t>& 
   // ground: in a segment whose low returns lie in its label band, or where the cell's
   // surface is close to it.
   explained_segments(cand, bin_slot, level1);
+  // Every segment explained: no cell can replace its level-1 plane, nothing to grow.
+  if (segment_explained_[0] && segment_explained_[1] && segment_explained_[2] &&
+      segment_explained_[3]) {
+    std::fill(state_.begin(), state_.end(), CellState::level1);
+    return;
+  }
   auto settle = [&](int cell, const HeightPlane& s, bool fitted) {
     const Fit f(p_, side_, cell);
     const HeightPlane own = level1_at(f.xc, f.yc);
-    const bool keep = segment_explained_[segment_at(f.xc, f.yc, level1.cx, level1.cy)] ||
-                      close(cell, s, own);
+    const bool keep =
+        segment_explained_[segment_at(f.xc, f.yc, level1.cx, level1.cy)] || close(cell, s, own);
     surface_[idx(cell)] = keep ? own : s;
-    state_[idx(cell)] = keep ? CellState::level1 : fitted ? CellState::refined : CellState::inherited;
+    state_[idx(cell)] = keep     ? CellState::level1
+                        : fitted ? CellState::refined
+                                 : CellState::inherited;
     replace_[idx(cell)] = keep ? 0 : 1;
     replaced_ += keep ? 0 : 1;
   };
@@ -487,7 +503,8 @@ void TerrainCells::fit(const Candidates& cand, const std::vector<std::int32_t>& 
   const HeightPlane seed = vehicle_seed(
       cand, bin_slot, level1.plane[segment_at(p_.sensor_x, p_.sensor_y, level1.cx, level1.cy)]);
   HeightPlane s;
-  settle(start, fit_cell(start, cand, bin_slot, seed, p_.sensor_x, p_.sensor_y, s) ? s : seed, true);
+  settle(start, fit_cell(start, cand, bin_slot, seed, p_.sensor_x, p_.sensor_y, s) ? s : seed,
+         true);
   std::size_t head = 0, tail = 0;
   queue_[tail++] = start;
   auto grow = [&] {

@@ -25,9 +25,9 @@ struct HeightPlane {
 };
 
 struct CellParams {
-  int bins = 80;          // B of the fitting grid
-  float bin_m = 1.f;      // bin side
-  float x_lo = -40.f;     // grid corner (vehicle frame)
+  int bins = 80;       // B of the fitting grid
+  float bin_m = 1.f;   // bin side
+  float x_lo = -40.f;  // grid corner (vehicle frame)
   float y_lo = -40.f;
   int cell_bins = 4;      // cell side in bins
   float eps = 0.2f;       // eq. 3 distance of the fit

@@ -1,5 +1,6 @@
 #include "vlpground/pipeline.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -238,7 +239,13 @@ struct Pipeline::Impl {
     {
       std::lock_guard lock(stats_mutex);
       f.delivered_index = next_index++;
-      if (has_stamp) latency.record(f.timings.latency_ms);
+      if (f.frame.meta.end == FrameEnd::silence) {
+        ++counters.silence_frames;
+        counters.silence_latency_max_ms =
+            std::max(counters.silence_latency_max_ms, f.timings.latency_ms);
+      } else if (has_stamp) {
+        latency.record(f.timings.latency_ms);
+      }
       ++counters.frames_delivered;
       counters.incomplete_frames += f.frame.meta.complete ? 0 : 1;
       counters.returns += returns;

@@ -144,7 +144,6 @@ void traffic(Builder& b, Rng& rng, double road, int count) {
   }
 }
 
-
 // Parked cars, facades, poles, trees and people along a street of half width `road`.
 void street(Builder& b, Rng& rng, double road, double walk) {
   for (double x = -60.0; x < 90.0; x += rng.uniform(5.5, 14.0)) {
@@ -374,7 +373,8 @@ Scene make_bowl(std::uint64_t seed, Rng& rng) {
                       std::fabs(terrain.curve_y.curvature_per_m) * cap + 0.01;
   Builder b(terrain, rng);
   countryside(b, rng, 60);
-  for (int i = 0; i < 4; ++i) b.car(rng.uniform(-30.0, 50.0), side(rng) * rng.uniform(3.0, 20.0), 0.0);
+  for (int i = 0; i < 4; ++i)
+    b.car(rng.uniform(-30.0, 50.0), side(rng) * rng.uniform(3.0, 20.0), 0.0);
   return Scene(SceneKind::bowl, seed, terrain, b.take());
 }
 
@@ -464,9 +464,9 @@ Scene make_garage(std::uint64_t seed, Rng& rng) {
   return Scene(SceneKind::garage, seed, terrain, b.take());
 }
 
-constexpr std::array<std::string_view, 11> kNames = {
-    "flat", "urban", "slope", "hills", "jam", "fences", "embankment", "bank", "bowl", "crest",
-    "garage"};
+constexpr std::array<std::string_view, 11> kNames = {"flat", "urban",  "slope",      "hills",
+                                                     "jam",  "fences", "embankment", "bank",
+                                                     "bowl", "crest",  "garage"};
 
 }  // namespace
 

@@ -39,12 +39,13 @@ Vec3 apply(const Mat3& m, const Vec3& v) {
           m[6] * v.x + m[7] * v.y + m[8] * v.z};
 }
 
-// Roll > 0 lifts the left (+y) side; pitch > 0 lifts the nose (+x).
+// R = Ry(pitch) Rx(roll), right-handed about x (forward) and y (left), as the detector's
+// Extrinsics: roll > 0 lifts the left side, pitch > 0 lowers the nose.
 Mat3 roll_pitch(double roll_rad, double pitch_rad) {
   const double cr = std::cos(roll_rad), sr = std::sin(roll_rad);
   const double cp = std::cos(pitch_rad), sp = std::sin(pitch_rad);
   const Mat3 rx{1, 0, 0, 0, cr, -sr, 0, sr, cr};
-  const Mat3 ry{cp, 0, -sp, 0, 1, 0, sp, 0, cp};
+  const Mat3 ry{cp, 0, sp, 0, 1, 0, -sp, 0, cp};
   return multiply(ry, rx);
 }
 
@@ -200,8 +201,9 @@ void Simulator::simulate_packet(std::uint64_t index, SimulatedPacket& out) const
     const std::int64_t t_seq = t0 + s * kSequencePeriodNs;
     // Vehicle attitude from the terrain under it (wheelbase ~3 m, track ~1.6 m).
     const Vec3 base = sensor_position_at(t_seq);
+    // Terrain rising ahead lifts the nose: a negative pitch (right-handed about y).
     const double pitch =
-        std::atan2(terrain.height(base.x + 1.5, 0.0) - terrain.height(base.x - 1.5, 0.0), 3.0);
+        -std::atan2(terrain.height(base.x + 1.5, 0.0) - terrain.height(base.x - 1.5, 0.0), 3.0);
     const double roll = std::atan2(terrain.height(base.x, 0.8) - terrain.height(base.x, -0.8), 1.6);
     const Mat3 rotation = multiply(roll_pitch(roll, pitch), mount_rotation_);
     const Vec3 ground{base.x, 0.0, base.z - height_m_};

@@ -15,6 +15,7 @@
 #include "child_process.hpp"
 #include "cli_helpers.hpp"
 #include "test_data.hpp"
+#include "udp_sender.hpp"
 #include "vlpground/driver/packet_source.hpp"
 
 using namespace vlpground;
@@ -250,20 +251,7 @@ TEST_CASE("live over loopback UDP labels like replay, and SIGINT ends a run clea
   REQUIRE(child.wait_for_stderr("listening", 20'000));
 
   // Send the capture at its own pace (rate 1.0: a live sensor's timing).
-  PcapSourceConfig c;
-  c.path = pcap->string();
-  c.rate = 1.0;
-  auto source = open_pcap_source(c);
-  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in to{};
-  to.sin_family = AF_INET;
-  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  PacketView v;
-  while (source->next(v, 5000) == SourceStatus::packet) {
-    to.sin_port = htons(v.kind == PacketKind::data ? port : position_port);
-    sendto(fd, v.bytes.data(), v.bytes.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
-  }
-  close(fd);
+  test::send_capture(pcap->string(), port, position_port);
   const int code = child.wait_exit(30'000);
   INFO(child.err);
   REQUIRE(code == 0);
@@ -290,7 +278,8 @@ TEST_CASE("live over loopback UDP labels like replay, and SIGINT ends a run clea
   CHECK(differing == 0);
 
   test::ChildProcess idle({kCli, "live", "--bind", "127.0.0.1", "--port",
-                           std::to_string(free_udp_port()), "--position-port", "0"});
+                           std::to_string(free_udp_port()), "--position-port", "0",
+                           "--allow-empty"});
   REQUIRE(idle.wait_for_stderr("listening", 20'000));
   idle.signal(SIGINT);
   CHECK(idle.wait_exit(20'000) == 0);

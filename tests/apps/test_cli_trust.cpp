@@ -1,5 +1,10 @@
 // Issue 15, "a command line you can trust": right answers or a clear failure. End-to-end
 // tests of the built `vlpground` executable, one TEST_CASE per item.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +13,7 @@
 #include "child_process.hpp"
 #include "cli_helpers.hpp"
 #include "test_data.hpp"
+#include "vlpground/driver/packet_source.hpp"
 
 using namespace vlpground;
 using test::one_line;
@@ -144,8 +150,8 @@ TEST_CASE("15.8 errors in the user's words; exit 2 for usage errors, 1 for runti
     getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
     const std::string busy = std::to_string(ntohs(a.sin_port));
     const std::string free_port = std::to_string(test::free_udp_port());
-    expect({kCli, "live", "--bind", "127.0.0.1", "--port", free_port, "--position-port", busy},
-           1, "position port " + busy + " on 127.0.0.1 is in use; use --position-port");
+    expect({kCli, "live", "--bind", "127.0.0.1", "--port", free_port, "--position-port", busy}, 1,
+           "position port " + busy + " on 127.0.0.1 is in use; use --position-port");
     expect({kCli, "live", "--bind", "127.0.0.1", "--port", busy, "--position-port", "0"}, 1,
            "data port " + busy + " on 127.0.0.1 is in use");
     close(fd);
@@ -175,7 +181,122 @@ TEST_CASE("15.2 eval refuses labels that do not belong to the capture") {
   expect_refused(dir / "h.pcap", test::project_pcap("hills_demo.labels").string(),
                  "describes 999 packets, the capture has 135");
   // Its own labels still score.
-  const auto ok = run_cli({kCli, "eval", hills.string(), "--labels",
-                           test::project_pcap("hills_demo.labels").string()});
+  const auto ok = run_cli(
+      {kCli, "eval", hills.string(), "--labels", test::project_pcap("hills_demo.labels").string()});
   CHECK(ok.code == 0);
+}
+
+namespace {
+
+// Sends every packet of `pcap` to 127.0.0.1 as fast as the socket takes them.
+void send_capture(const std::filesystem::path& pcap, std::uint16_t port,
+                  std::uint16_t position_port) {
+  PcapSourceConfig c;
+  c.path = pcap.string();
+  auto source = open_pcap_source(c);
+  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  PacketView v;
+  while (source->next(v, 5000) == SourceStatus::packet) {
+    to.sin_port = htons(v.kind == PacketKind::data ? port : position_port);
+    sendto(fd, v.bytes.data(), v.bytes.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
+  }
+  close(fd);
+}
+
+}  // namespace
+
+TEST_CASE("15.5 live summaries claim only what was measured") {
+  SECTION("nothing received: an error unless --allow-empty, and no verdict") {
+    const std::string port = std::to_string(test::free_udp_port());
+    const std::vector<std::string> args{kCli,         "live", "--bind",          "127.0.0.1",
+                                        "--port",     port,   "--position-port", "0",
+                                        "--duration", "0.2"};
+    const auto r = run_cli(args);
+    CHECK(r.code == 1);
+    CHECK(r.err.find("no packets received on udp 127.0.0.1:" + port) != std::string::npos);
+    CHECK(r.out.find(": met") == std::string::npos);
+    CHECK(r.out.find("MISSED") == std::string::npos);
+    auto allowed = args;
+    allowed.push_back("--allow-empty");
+    CHECK(run_cli(allowed).code == 0);
+  }
+  SECTION(
+      "few samples: no percentiles, the silence-flushed frame apart, throughput from the "
+      "first packet") {
+    const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
+    VLPGROUND_REQUIRE_SHARED(pcap);
+    const std::uint16_t port = test::free_udp_port(), position_port = test::free_udp_port();
+    test::ChildProcess child({kCli, "live", "--bind", "127.0.0.1", "--port", std::to_string(port),
+                              "--position-port", std::to_string(position_port), "--queue", "16",
+                              "--duration", "1.5", "--json"});
+    REQUIRE(child.wait_for_stderr("listening", 20'000));
+    send_capture(*pcap, port, position_port);
+    REQUIRE(child.wait_exit(30'000) == 0);
+    INFO(child.out);
+    const auto j = nlohmann::json::parse(child.out);
+    const auto delivered = j["frames"]["delivered"].get<std::uint64_t>();
+    REQUIRE(delivered >= 2);
+    REQUIRE(delivered < 10);                   // too few samples for any percentile
+    CHECK(j["silence_frames"]["count"] == 1);  // the last frame, flushed by the timeout
+    CHECK(j["timings"]["latency"]["samples"] == delivered - 1);
+    CHECK(j["timings"]["latency"]["p50_ms"].is_null());
+    CHECK(j["timings"]["latency"]["p99_ms"].is_null());
+    CHECK(j["timings"]["latency"]["max_ms"].get<double>() <
+          j["silence_frames"]["latency_max_ms"].get<double>());
+    // 1.5 s of running, well under a second of packets.
+    CHECK(j["active_s"].get<double>() < 0.5 * j["elapsed_s"].get<double>());
+    CHECK(j["frames_per_s"].get<double>() >
+          2 * static_cast<double>(delivered) / j["elapsed_s"].get<double>());
+  }
+}
+
+TEST_CASE("15.11 a run without any ground says why in one line") {
+  const auto floor = test::shared_file("real", "vlp16_dual_close_range.pcap");
+  VLPGROUND_REQUIRE_SHARED(floor);
+  const auto r = run_cli({kCli, "replay", floor->string(), "--json"});
+  CHECK(r.code == 0);
+  CHECK(one_line(r.err));
+  CHECK(r.err.find("no ground in any frame") != std::string::npos);
+  CHECK(r.err.find("--min-sensor-height 0") != std::string::npos);
+  const auto found = run_cli({kCli, "replay", floor->string(), "--min-sensor-height", "0"});
+  CHECK(found.err.find("no ground") == std::string::npos);
+}
+
+TEST_CASE("15.1 one sign convention: tilted simulator captures score through eval like a level one") {
+  const auto dir = test::temp_dir("cli_tilt");
+  const auto f1_of = [](const std::string& out) {
+    const auto j = nlohmann::json::parse(out);
+    return j["f1"].get<double>();
+  };
+  const auto score = [&](const std::string& stem, const std::vector<std::string>& tilt,
+                         const std::vector<std::string>& eval_extra) {
+    std::vector<std::string> sim{kCli, "sim", "urban", "--frames", "2", "--seed", "3",
+                                 "--height-m", "1.8", "--out", (dir / stem).string()};
+    sim.insert(sim.end(), tilt.begin(), tilt.end());
+    REQUIRE(run_cli(sim).code == 0);
+    std::vector<std::string> eval{kCli, "eval", (dir / (stem + ".pcap")).string(), "--labels",
+                                  (dir / (stem + ".labels")).string(), "--json"};
+    eval.insert(eval.end(), eval_extra.begin(), eval_extra.end());
+    const auto r = run_cli(eval);
+    REQUIRE(r.code == 0);
+    return f1_of(r.out);
+  };
+  const double level = score("level", {}, {});
+  REQUIRE(level > 0.99);
+  for (const char* option : {"--pitch-deg", "--roll-deg"}) {
+    for (const char* degrees : {"8", "-8"}) {
+      INFO(option << " " << degrees);
+      const std::string stem = std::string(option + 2) + degrees;
+      // The pose from STEM.json beside the capture...
+      CHECK(score(stem, {option, degrees}, {}) > level - 0.01);
+      // ...and the same pose given as --extrinsics x,y,z,roll,pitch,yaw.
+      const bool pitch = std::string(option) == "--pitch-deg";
+      const std::string pose = std::string("0,0,1.8,") + (pitch ? "0" : degrees) + "," +
+                               (pitch ? degrees : "0") + ",0";
+      CHECK(score(stem, {option, degrees}, {"--extrinsics", pose}) > level - 0.01);
+    }
+  }
 }

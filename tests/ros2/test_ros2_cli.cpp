@@ -1,13 +1,17 @@
 // `vlpground replay --ros2` received by an independent subscriber process (ros2_listener):
 // layout, point count, and every point and label equal to `--csv` of the same capture.
+#include <signal.h>
+
 #include <catch2/catch.hpp>
 #include <fstream>
 #include <set>
 #include <string>
 
 #include "child_process.hpp"
+#include "cli_helpers.hpp"
 #include "dds_loopback.hpp"
 #include "test_data.hpp"
+#include "udp_sender.hpp"
 
 using vlpground::test::ChildProcess;
 using vlpground::test::run_cli;
@@ -111,4 +115,34 @@ TEST_CASE("replay --ros2 with bad options fails with a one-line reason") {
   r = run_cli({VLPGROUND_CLI, "replay", capture, "--ros2", "--ros2-qos", "fast"});
   CHECK(r.code != 0);
   CHECK_THAT(r.err, Catch::Contains("--ros2-qos"));
+}
+
+TEST_CASE("live --ros2: UDP frames reach a subscriber with the labels of the same run's CSV, "
+          "and Ctrl-C ends cleanly") {
+  const std::string domain = std::to_string(vlpground::test::confine_dds_to_loopback());
+  const auto dir = vlpground::test::temp_dir("ros2_cli_live");
+  const std::string csv = (dir / "live.csv").string();
+  constexpr int kFrames = 3;  // urban_demo holds 3 complete rotations between partial ones
+  ChildProcess listener({VLPGROUND_ROS2_LISTENER, "--domain", domain, "--topic",
+                         "rt/vlpground/points", "--qos", "reliable", "--frames",
+                         std::to_string(kFrames), "--csv", csv, "--timeout-ms",
+                         std::to_string(kTimeoutMs)});
+  REQUIRE(listener.wait_for_stderr("listening", kTimeoutMs));
+  const std::uint16_t port = vlpground::test::free_udp_port();
+  // --csv before --ros2: each frame's CSV rows are flushed before it is published.
+  ChildProcess live({VLPGROUND_CLI, "live", "--bind", "127.0.0.1", "--port", std::to_string(port),
+                     "--position-port", "0", "--csv", csv, "--ros2", "--ros2-domain", domain,
+                     "--ros2-wait-subscribers", "1", "--ros2-wait-timeout", "30"});
+  REQUIRE(live.wait_for_stderr("listening on", kTimeoutMs));  // after the subscriber matched
+  vlpground::test::send_capture(vlpground::test::project_pcap("urban_demo.pcap").string(), port,
+                                0);
+  const int code = listener.wait_exit(kTimeoutMs);
+  INFO(listener.out << listener.err);
+  CHECK(code == 0);
+  CHECK_THAT(listener.out,
+             Catch::Contains("received " + std::to_string(kFrames) + " clouds, 0 failed"));
+  live.signal(SIGINT);
+  INFO(live.err);
+  CHECK(live.wait_exit(kTimeoutMs) == 0);
+  CHECK_THAT(live.err, Catch::Contains("frames published on /vlpground/points"));
 }

@@ -164,7 +164,7 @@ TEST_CASE("the terrain-shape scenes have the shape their name promises", "[sim][
     CHECK(c.height(apex, 0.0) - c.height(apex - 40.0, 0.0) > 1.5);  //   and behind
     const Scene g = Scene::generate(SceneKind::garage, seed);
     const Terrain& t = g.terrain();
-    CHECK(t.height(t.along.at[3] + 5.0, 0.0) < -2.7);  // garage floor
+    CHECK(t.height(t.along.at[3] + 5.0, 0.0) < -2.7);                         // garage floor
     CHECK(t.height(t.along.at[3] + 5.0, t.along_half_width_m + 1.0) == 0.0);  // street above
     bool ceiling = false;
     for (const Obstacle& o : g.obstacles())

@@ -116,7 +116,7 @@ TEST_CASE("ground points lie at the mounting height below a level sensor", "[sim
 TEST_CASE("mount pitch tilts the ground in the sensor frame", "[sim]") {
   SimConfig c = config_for(SceneKind::flat);  // level terrain everywhere
   c.range_noise_m = 0.0;
-  c.mount_pitch_deg = 5.0;  // nose up: ground ahead appears lower, behind higher
+  c.mount_pitch_deg = -5.0;  // nose up (right-handed about y): ground ahead appears lower
   c.sensor_height_m = 1.8;
   const Simulator sim(c);
   const double sp = std::sin(5.0 * 3.14159265358979 / 180.0);

@@ -88,7 +88,11 @@ struct PipelineStats {
   std::uint64_t returns = 0;            // valid returns in delivered frames (all layers)
   std::uint64_t ground_returns = 0;
   CaptureCounters capture;  // source, decoder and assembler counters
-  LatencyStats latency;     // completed_receive_ns -> callback
+  LatencyStats latency;     // completed_receive_ns -> callback (frames ended by silence excluded)
+  // Frames ended by the silence timeout (FrameEnd::silence, e.g. the last one of a live run)
+  // wait for the timeout before delivery: counted here, not in `latency`.
+  std::uint64_t silence_frames = 0;
+  double silence_latency_max_ms = 0;
   LatencyStats detect;      // GroundDetector::detect
   double progress = -1.0;   // fraction of the input read (replay), -1 live
   double elapsed_s = 0.0;   // since start()

@@ -39,6 +39,8 @@ struct SimConfig {
   // Unset: drawn from the seed (height 1.7..2.0 m, speed depends on the scene, no tilt).
   std::optional<double> sensor_height_m;
   std::optional<double> speed_mps;
+  // Mounting tilt, right-handed about x (forward) and y (left) as Extrinsics: roll > 0 lifts
+  // the left side, pitch > 0 lowers the nose. STEM.json writes them as mount_roll_pitch_deg.
   double mount_roll_deg = 0.0;
   double mount_pitch_deg = 0.0;
   double range_noise_m = 0.015;  // 1-sigma Gaussian range noise
