@@ -347,3 +347,21 @@ TEST_CASE("15.9 info: verdicts only where they mean something, rpm of short capt
   // --model is accepted as by replay.
   CHECK(info(*real("vlp16_short.pcap"), {"--model", "vlp16"}).code == 0);
 }
+
+TEST_CASE("15.10 --frames N counts full rotations unless --partial") {
+  const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
+  VLPGROUND_REQUIRE_SHARED(pcap);
+  const auto frames = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args{kCli, "replay", pcap->string(), "--json"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = run_cli(args);
+    REQUIRE(r.code == 0);
+    return nlohmann::json::parse(r.out)["frames"];
+  };
+  const auto full = frames({"--frames", "2"});
+  CHECK(full["delivered"].get<int>() - full["incomplete"].get<int>() == 2);
+  CHECK(full["incomplete"] == 1);  // the capture starts mid-rotation
+  const auto partial = frames({"--frames", "2", "--partial"});
+  CHECK(partial["delivered"] == 2);
+  CHECK(partial["incomplete"] == 1);
+}
