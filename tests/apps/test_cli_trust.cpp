@@ -63,7 +63,7 @@ TEST_CASE("15.3 an output that cannot be written fails the run after flushing th
   }
 }
 
-TEST_CASE("15.4 logs go to stderr; with --json stdout is exactly one JSON document") {
+TEST_CASE("15.4 logs go to stderr, with --json stdout is exactly one JSON document") {
   const auto byte21 = test::shared_file("real", "vlp16_1200rpm_productbyte21.pcap");
   VLPGROUND_REQUIRE_SHARED(byte21);
   const auto warned = run_cli({kCli, "replay", byte21->string(), "--json"});
@@ -115,7 +115,7 @@ TEST_CASE("15.7 one rule for output paths") {
   }
 }
 
-TEST_CASE("15.8 errors in the user's words; exit 2 for usage errors, 1 for runtime failures") {
+TEST_CASE("15.8 errors in the user's words, exit 2 for usage errors, 1 for runtime failures") {
   const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
   VLPGROUND_REQUIRE_SHARED(pcap);
   const auto dir = test::temp_dir("cli_words");
