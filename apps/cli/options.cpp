@@ -68,8 +68,9 @@ void add_detector_options(CLI::App& cmd, PipelineConfig& config) {
   cmd.add_option_function<std::vector<std::string>>(
          "--extrinsics",
          [&d](const std::vector<std::string>& v) { d.extrinsics = parse_extrinsics(v); },
-         "sensor pose in the vehicle frame: x,y,z (m), roll,pitch,yaw (deg); points, "
-         "planes and heights are then in the vehicle frame. " +
+         "sensor pose in the vehicle frame: x,y,z (m), roll,pitch,yaw (deg); the "
+         "detector's planes and heights are then in the vehicle frame (CSV/PCD points stay "
+         "in the sensor frame). " +
              std::string(kFrameConvention))
       ->type_name("X,Y,Z,ROLL,PITCH,YAW")
       ->expected(1, 6)
@@ -106,7 +107,7 @@ void add_detector_options(CLI::App& cmd, PipelineConfig& config) {
 void add_frames_option(CLI::App& cmd, std::uint64_t& frames) {
   cmd.add_option_function<std::int64_t>(
          "--frames", [&frames](std::int64_t n) { frames = static_cast<std::uint64_t>(n); },
-         "stop after N frames (0 = all)")
+         "stop after N frames (0 = all); replay and live count full rotations unless --partial")
       ->type_name("N")
       ->check(CLI::Validator(
           [](const std::string& v) {

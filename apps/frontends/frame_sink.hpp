@@ -9,7 +9,8 @@
 //      returning nullptr when the user did not ask for it.
 //   2. apps/frontends/output_options.hpp: one member `NameOptions NAME;` in OutputOptions.
 //   3. apps/frontends/output_options.cpp: one line in add_output_options() and one in
-//      make_sinks(); add the .cpp to apps/CMakeLists.txt.
+//      make_sinks(); add the .cpp to apps/CMakeLists.txt. Then regenerate the option reference:
+//      `cmake --build build --target cli_docs` (docs/cli.md; a test compares it).
 //
 // Errors: a sink that cannot write throws std::runtime_error with a one-line reason naming
 // the option and the file ("--csv out.csv: No space left on device"); the runner then stops

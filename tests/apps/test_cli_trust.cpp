@@ -63,7 +63,7 @@ TEST_CASE("15.3 an output that cannot be written fails the run after flushing th
   }
 }
 
-TEST_CASE("15.4 logs go to stderr; with --json stdout is exactly one JSON document") {
+TEST_CASE("15.4 logs go to stderr, with --json stdout is exactly one JSON document") {
   const auto byte21 = test::shared_file("real", "vlp16_1200rpm_productbyte21.pcap");
   VLPGROUND_REQUIRE_SHARED(byte21);
   const auto warned = run_cli({kCli, "replay", byte21->string(), "--json"});
@@ -115,7 +115,7 @@ TEST_CASE("15.7 one rule for output paths") {
   }
 }
 
-TEST_CASE("15.8 errors in the user's words; exit 2 for usage errors, 1 for runtime failures") {
+TEST_CASE("15.8 errors in the user's words, exit 2 for usage errors, 1 for runtime failures") {
   const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
   VLPGROUND_REQUIRE_SHARED(pcap);
   const auto dir = test::temp_dir("cli_words");
@@ -299,4 +299,69 @@ TEST_CASE("15.1 one sign convention: tilted simulator captures score through eva
       CHECK(score(stem, {option, degrees}, {"--extrinsics", pose}) > level - 0.01);
     }
   }
+}
+
+TEST_CASE("15.12 docs/cli.md is the reference generated from the parser") {
+  const auto r = run_cli({kCli, "help", "--all-markdown"});
+  REQUIRE(r.code == 0);
+  std::ifstream in(std::filesystem::path(VLPGROUND_SOURCE_DIR) / "docs" / "cli.md");
+  const std::string committed((std::istreambuf_iterator<char>(in)),
+                              std::istreambuf_iterator<char>());
+  INFO("regenerate it: cmake --build build --target cli_docs");
+  CHECK(committed == r.out);
+  // It documents what users asked about.
+  for (const char* text : {"| `--frames` |", "## vlpground sim", "## vlpground info",
+                           "`--frames 0` means every frame", "label` is 0 no return, 1 ground",
+                           "column `return`", "sensor frame", "Exit status", "--version",
+                           "help SUBCOMMAND"}) {
+    INFO(text);
+    CHECK(r.out.find(text) != std::string::npos);
+  }
+}
+
+TEST_CASE("15.9 info: verdicts only where they mean something, rpm of short captures") {
+  const auto real = [](const char* name) { return test::shared_file("real", name); };
+  const auto position_only = real("vlp16_one_position_packet.pcap");
+  VLPGROUND_REQUIRE_SHARED(position_only);
+  const auto info = [](const std::filesystem::path& p, std::vector<std::string> extra = {}) {
+    std::vector<std::string> args{kCli, "info", p.string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_cli(args);
+  };
+  const auto none = info(*position_only);
+  CHECK(none.out.find("none (no data packets)") != std::string::npos);
+  CHECK(none.out.find("NOT agree") == std::string::npos);
+  const auto none_json = nlohmann::json::parse(info(*position_only, {"--json"}).out);
+  CHECK(none_json["product_byte_agrees_with_timing"].is_null());
+  // An HDL-32E whose byte and timing agree.
+  const auto hdl = info(*real("hdl32e_short.pcap"));
+  CHECK(hdl.out.find("0x21 (HDL-32E, agrees with the packet timing)") != std::string::npos);
+  // Short captures without a complete rotation still get their rpm.
+  const auto fair = nlohmann::json::parse(
+      info(*real("vlp16_county_fair_productbyte21.pcap"), {"--json"}).out);
+  CHECK(fair["rpm"].get<double>() == Approx(600).margin(10));
+  const auto slow = info(*real("vlp16_short.pcap"));
+  CHECK(slow.out.find("rpm            0.0") == std::string::npos);
+  CHECK(slow.out.find("1 truncated") != std::string::npos);  // truncated records shown
+  CHECK(info(*real("vlp16_one_packet.pcap")).out.find("(1 frame with") != std::string::npos);
+  // --model is accepted as by replay.
+  CHECK(info(*real("vlp16_short.pcap"), {"--model", "vlp16"}).code == 0);
+}
+
+TEST_CASE("15.10 --frames N counts full rotations unless --partial") {
+  const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
+  VLPGROUND_REQUIRE_SHARED(pcap);
+  const auto frames = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args{kCli, "replay", pcap->string(), "--json"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = run_cli(args);
+    REQUIRE(r.code == 0);
+    return nlohmann::json::parse(r.out)["frames"];
+  };
+  const auto full = frames({"--frames", "2"});
+  CHECK(full["delivered"].get<int>() - full["incomplete"].get<int>() == 2);
+  CHECK(full["incomplete"] == 1);  // the capture starts mid-rotation
+  const auto partial = frames({"--frames", "2", "--partial"});
+  CHECK(partial["delivered"] == 2);
+  CHECK(partial["incomplete"] == 1);
 }

@@ -294,9 +294,13 @@ int main(int argc, char** argv) {
                  std::to_string(router.records) + " + kernel dropped " +
                  std::to_string(router.kernel_drops));
   fail.check(router.accounted() == router.records, "router: datagrams not in any counter");
-  fail.check(router.unknown_source == stranger_sent,
+  // The kernel's drops (a full socket buffer) cannot be told apart by sender: the stranger's
+  // datagrams read must be those sent, less at most the datagrams the kernel dropped.
+  fail.check(router.unknown_source <= stranger_sent &&
+                 router.unknown_source + router.kernel_drops >= stranger_sent,
              "unknown source " + std::to_string(router.unknown_source) + " != stranger sent " +
-                 std::to_string(stranger_sent));
+                 std::to_string(stranger_sent) + " (kernel dropped " +
+                 std::to_string(router.kernel_drops) + ")");
   const sim::UdpStreamStats* sent_by[2] = {&sent_front, &sent_rear};
   std::printf("soak: %.0f s at %.0fx real time, 2 sensors on one port, faults injected\n",
               elapsed_s, options.rate);

@@ -156,7 +156,7 @@ TEST_CASE("serverInfo, advertise with the encoder's channels, subscribe, data fr
   }
 }
 
-TEST_CASE("plain HTTP GET returns the web page; other paths 404") {
+TEST_CASE("plain HTTP GET returns the web page, other paths 404") {
   Logged logged;
   FoxgloveServer server(test_config(logged), viz::FrameEncoder().channels());
   std::string type;
@@ -276,7 +276,7 @@ TEST_CASE("20 clients coming and going while another one receives everything") {
   CHECK(server.stats().clients.size() == 1);
 }
 
-TEST_CASE("bad server configuration is refused; a busy port is a clear error") {
+TEST_CASE("bad server configuration is refused, and a busy port is a clear error") {
   viz::ServerConfig c;
   c.address = "localhost:80";
   CHECK_THROWS_WITH(FoxgloveServer(c, {}), Catch::Contains("not an IP address"));
