@@ -109,7 +109,7 @@ void add_detector_options(CLI::App& cmd, PipelineConfig& config) {
 void add_frames_option(CLI::App& cmd, std::uint64_t& frames) {
   cmd.add_option_function<std::int64_t>(
          "--frames", [&frames](std::int64_t n) { frames = static_cast<std::uint64_t>(n); },
-         "stop after N frames (0 = all)")
+         "stop after N frames (0 = all); replay and live count full rotations unless --partial")
       ->type_name("N")
       ->check(CLI::Validator(
           [](const std::string& v) {

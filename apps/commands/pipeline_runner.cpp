@@ -75,7 +75,9 @@ int run_pipeline(RunRequest request) {
   StopOnSignal signals;  // before the pipeline creates its threads
   std::unique_ptr<Pipeline> pipeline;
   try {
-    pipeline = std::make_unique<Pipeline>(request.config);
+    PipelineConfig config = request.config;
+    if (!request.partial) config.max_frames = 0;  // counted below: full rotations only
+    pipeline = std::make_unique<Pipeline>(config);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s%s\n", prefix.c_str(), e.what());
     return kExitUsage;
@@ -90,7 +92,12 @@ int run_pipeline(RunRequest request) {
   std::mutex gps_mutex;
   std::string gps;
 
+  // --frames N counts full rotations (FrameMeta::complete) unless --partial.
+  const std::uint64_t wanted_rotations = request.partial ? 0 : request.config.max_frames;
+  std::uint64_t rotations = 0;  // detection thread only
   pipeline->on_frame([&](const LabelledFrame& f) {
+    if (wanted_rotations != 0 && rotations >= wanted_rotations) return;  // stopping
+    if (f.frame.meta.complete && ++rotations == wanted_rotations) pipeline->stop();
     sinks->write(f, sink_errors, [&] { pipeline->stop(); });
     if (frame_lines) print_frame_line(stdout, f);
     span.add(f.frame.meta);
@@ -187,6 +194,9 @@ int run_pipeline(RunRequest request) {
 
 void add_run_options(CLI::App& cmd, RunRequest& request) {
   add_run_limit_options(cmd, request.config);
+  cmd.add_flag("--partial", request.partial,
+               "--frames N counts partial rotations too (by default only full ones: the "
+               "partial first and last frames are output but not counted)");
   add_output_options(cmd, request.outputs);
   cmd.add_flag("--json", request.json,
                "print a machine-readable JSON summary instead of the table (stdout carries "

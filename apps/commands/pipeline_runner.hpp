@@ -17,6 +17,7 @@ struct RunRequest {
   bool json = false;               // summary as JSON on stdout
   std::string log_level = "warn";  // spdlog level name
   double duration_s = 0.0;         // 0 = no time limit
+  bool partial = false;            // --frames counts partial rotations too
   bool allow_empty = false;        // live: receiving nothing is not an error
 };
 

@@ -3,6 +3,8 @@
 #include <charconv>
 #include <chrono>
 #include <cstdio>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 
 #if VLPGROUND_HAVE_VIZ
@@ -58,52 +60,75 @@ std::int64_t now_ns() {
 }
 
 // Encodes only the channels someone subscribed to, and hands them to the server thread;
-// never blocks the detection thread on a client.
+// never blocks the detection thread on a client. `first_channel`: where this sensor's
+// channels start on the (possibly shared) server.
 class FoxgloveSink : public FrameSink {
  public:
-  FoxgloveSink(viz::FrameEncoderConfig encoder, viz::ServerConfig server)
-      : encoder_(std::move(encoder)), server_(std::move(server), encoder_.channels()) {
+  FoxgloveSink(viz::FrameEncoder encoder, std::shared_ptr<viz::FoxgloveServer> server,
+               std::size_t first_channel)
+      : encoder_(std::move(encoder)), server_(std::move(server)), first_(first_channel) {
     publish_ = [this](std::size_t channel, std::int64_t t, std::span<const std::byte> bytes) {
-      server_.publish(channel, t, bytes);
+      server_->publish(first_ + channel, t, bytes);
     };
   }
-  [[nodiscard]] std::uint16_t port() const { return server_.port(); }
 
   void write(const LabelledFrame& f) override {
-    const viz::ChannelMask wanted = server_.subscribed() & ~(viz::ChannelMask{1} << viz::kStatusChannel);
+    const viz::ChannelMask wanted = mine() & ~(viz::ChannelMask{1} << viz::kStatusChannel);
     if (wanted != 0) encoder_.encode(f, publish_, wanted);
   }
   void on_stats(const PipelineStats& stats) override {
-    if ((server_.subscribed() >> viz::kStatusChannel & 1u) != 0) {
-      encoder_.encode_status(stats, now_ns(), publish_);
-    }
+    if ((mine() >> viz::kStatusChannel & 1u) != 0) encoder_.encode_status(stats, now_ns(), publish_);
   }
   void on_position(const PositionPacket& p) override { encoder_.note_position(p); }
 
  private:
+  [[nodiscard]] viz::ChannelMask mine() const {
+    return (server_->subscribed() >> first_) & viz::kAllChannels;
+  }
   viz::FrameEncoder encoder_;
-  viz::FoxgloveServer server_;
+  std::shared_ptr<viz::FoxgloveServer> server_;
+  std::size_t first_;
   viz::MessageSink publish_;
 };
+
+// One server per --foxglove address in the process, shared by the sensors' sinks.
+std::shared_ptr<viz::FoxgloveServer> server_for(const std::string& listen,
+                                                std::vector<viz::ChannelSpec> channels,
+                                                std::size_t& first_channel) {
+  static std::mutex mutex;
+  static std::map<std::string, std::weak_ptr<viz::FoxgloveServer>> servers;
+  const std::lock_guard lock(mutex);
+  if (auto server = servers[listen].lock()) {
+    first_channel = server->add_channels(std::move(channels));
+    return server;
+  }
+  const auto [address, port] = parse_listen_address(listen);
+  viz::ServerConfig config;
+  config.address = address;
+  config.port = port;
+  auto server = std::make_shared<viz::FoxgloveServer>(std::move(config), std::move(channels));
+  servers[listen] = server;
+  first_channel = 0;
+  const std::string host = address.find(':') != std::string::npos ? "[" + address + "]" : address;
+  std::fprintf(stderr,
+               "vlpground: Foxglove live view on ws://%s:%u (Foxglove: Open connection), "
+               "web page http://%s:%u/\n",
+               host.c_str(), server->port(), host.c_str(), server->port());
+  return server;
+}
 
 }  // namespace
 
 std::unique_ptr<FrameSink> make_foxglove_sink(const FoxgloveOptions& o,
                                               const PipelineConfig& config) {
   if (o.listen.empty()) return nullptr;
-  const auto [address, port] = parse_listen_address(o.listen);
-  viz::FrameEncoderConfig encoder;
-  encoder.extrinsics = config.detector.extrinsics;
-  viz::ServerConfig server;
-  server.address = address;
-  server.port = port;
-  auto sink = std::make_unique<FoxgloveSink>(std::move(encoder), std::move(server));
-  const std::string host = address.find(':') != std::string::npos ? "[" + address + "]" : address;
-  std::fprintf(stderr,
-               "vlpground: Foxglove live view on ws://%s:%u (Foxglove: Open connection), "
-               "web page http://%s:%u/\n",
-               host.c_str(), sink->port(), host.c_str(), sink->port());
-  return sink;
+  viz::FrameEncoderConfig encoder_config;
+  encoder_config.extrinsics = config.detector.extrinsics;
+  if (!o.sensor.empty()) encoder_config.topic_prefix += "/" + o.sensor;
+  viz::FrameEncoder encoder(std::move(encoder_config));
+  std::size_t first = 0;
+  auto server = server_for(o.listen, encoder.channels(), first);
+  return std::make_unique<FoxgloveSink>(std::move(encoder), std::move(server), first);
 }
 
 #else

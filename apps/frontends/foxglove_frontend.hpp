@@ -1,6 +1,6 @@
 // --foxglove [ADDR:]PORT: serves the Foxglove channels of every frame (points, ground, range
 // image, status) live over the Foxglove WebSocket protocol, and a web page with the
-// bird's-eye view on the same port (docs/foxglove.md).
+// bird's-eye view on the same port (docs/foxglove.md). Several sensors share one server.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -17,6 +17,9 @@ inline constexpr const char* kDefaultFoxgloveAddress = "127.0.0.1";
 
 struct FoxgloveOptions {
   std::string listen;  // "[ADDR:]PORT" as given; empty: not requested
+  // With several sensors: this sensor's name. All sensors share one server; each one's
+  // channels are /vlpground/NAME/points, ... (set by outputs_for_sensor).
+  std::string sensor;
 };
 
 void add_foxglove_options(CLI::App& cmd, FoxgloveOptions& o);

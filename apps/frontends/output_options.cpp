@@ -75,6 +75,7 @@ OutputOptions outputs_for_sensor(const OutputOptions& o, const std::string& name
   s.pcd.dir = with_name_in_dir(o.pcd.dir, name);
   s.png.dir = with_name_in_dir(o.png.dir, name);
   s.mcap.path = with_name_in_file(o.mcap.path, name, ".mcap");
+  s.foxglove.sensor = name;
 #if VLPGROUND_WITH_ROS2
   for (std::string* topic : {&s.ros2.config.topic, &s.ros2.config.ground_topic,
                              &s.ros2.config.obstacle_topic}) {

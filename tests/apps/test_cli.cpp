@@ -217,12 +217,12 @@ TEST_CASE("replay --config FILE.yaml sets every option, the command line wins") 
   };
   const auto from_file = run_cli({kCli, "replay", pcap->string(), "--config", yaml.string()});
   REQUIRE(from_file.code == 0);
-  CHECK(delivered(from_file.out) == 2);
+  CHECK(delivered(from_file.out) == 2 + 1);  // 2 full rotations after the partial first frame
   CHECK(read_lines(dir / "out.csv").size() > 1);
   const auto cli_wins =
       run_cli({kCli, "replay", pcap->string(), "--config", yaml.string(), "--frames", "3"});
   REQUIRE(cli_wins.code == 0);
-  CHECK(delivered(cli_wins.out) == 3);
+  CHECK(delivered(cli_wins.out) == 3 + 1);
   for (const char* bad : {"bogus: 1\n", "queue: 0\n", "[1, 2]\n"}) {
     INFO(bad);
     std::ofstream(yaml) << bad;
@@ -247,7 +247,7 @@ TEST_CASE("live over loopback UDP labels like replay, and SIGINT ends a run clea
   const std::uint16_t port = free_udp_port(), position_port = free_udp_port();
   test::ChildProcess child({kCli, "live", "--bind", "127.0.0.1", "--port", std::to_string(port),
                             "--position-port", std::to_string(position_port), "--frames",
-                            std::to_string(frames), "--queue", "16", "--csv", live_csv.string()});
+                            std::to_string(frames), "--partial", "--queue", "16", "--csv", live_csv.string()});
   REQUIRE(child.wait_for_stderr("listening", 20'000));
 
   // Send the capture at its own pace (rate 1.0: a live sensor's timing).

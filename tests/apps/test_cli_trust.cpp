@@ -63,7 +63,7 @@ TEST_CASE("15.3 an output that cannot be written fails the run after flushing th
   }
 }
 
-TEST_CASE("15.4 logs go to stderr; with --json stdout is exactly one JSON document") {
+TEST_CASE("15.4 logs go to stderr, with --json stdout is exactly one JSON document") {
   const auto byte21 = test::shared_file("real", "vlp16_1200rpm_productbyte21.pcap");
   VLPGROUND_REQUIRE_SHARED(byte21);
   const auto warned = run_cli({kCli, "replay", byte21->string(), "--json"});
@@ -115,7 +115,7 @@ TEST_CASE("15.7 one rule for output paths") {
   }
 }
 
-TEST_CASE("15.8 errors in the user's words; exit 2 for usage errors, 1 for runtime failures") {
+TEST_CASE("15.8 errors in the user's words, exit 2 for usage errors, 1 for runtime failures") {
   const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
   VLPGROUND_REQUIRE_SHARED(pcap);
   const auto dir = test::temp_dir("cli_words");
@@ -346,4 +346,22 @@ TEST_CASE("15.9 info: verdicts only where they mean something, rpm of short capt
   CHECK(info(*real("vlp16_one_packet.pcap")).out.find("(1 frame with") != std::string::npos);
   // --model is accepted as by replay.
   CHECK(info(*real("vlp16_short.pcap"), {"--model", "vlp16"}).code == 0);
+}
+
+TEST_CASE("15.10 --frames N counts full rotations unless --partial") {
+  const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
+  VLPGROUND_REQUIRE_SHARED(pcap);
+  const auto frames = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args{kCli, "replay", pcap->string(), "--json"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const auto r = run_cli(args);
+    REQUIRE(r.code == 0);
+    return nlohmann::json::parse(r.out)["frames"];
+  };
+  const auto full = frames({"--frames", "2"});
+  CHECK(full["delivered"].get<int>() - full["incomplete"].get<int>() == 2);
+  CHECK(full["incomplete"] == 1);  // the capture starts mid-rotation
+  const auto partial = frames({"--frames", "2", "--partial"});
+  CHECK(partial["delivered"] == 2);
+  CHECK(partial["incomplete"] == 1);
 }

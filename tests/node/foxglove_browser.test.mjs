@@ -133,8 +133,14 @@ test("the web page in headless Chromium: frame counter advancing, ground and obs
     assert.match(await text("state"), /connected/);
     assert.match(await text("gps"), /PPS locked/);
 
-    const shot = await cdp.send("Page.captureScreenshot", { format: "png" }, sessionId);
-    const png = Buffer.from(shot.data, "base64");
+    // A screenshot of a whole rotation (the page may move on to a partial one meanwhile).
+    let png = null;
+    while (png === null && Date.now() < deadline) {
+      const before = Number(await text("points"));
+      const shot = await cdp.send("Page.captureScreenshot", { format: "png" }, sessionId);
+      if (before > 15000 && Number(await text("points")) > 15000) png = Buffer.from(shot.data, "base64");
+    }
+    assert.ok(png !== null, "a screenshot of a whole rotation");
     writeFileSync(path.join(outDir, "live_page.png"), png);
     const image = decodePng(png);
     const ground = countColour(image, [0x28, 0xc8, 0x50]), obstacles = countColour(image, [0xe6, 0x32, 0x28]);

@@ -156,7 +156,7 @@ TEST_CASE("serverInfo, advertise with the encoder's channels, subscribe, data fr
   }
 }
 
-TEST_CASE("plain HTTP GET returns the web page; other paths 404") {
+TEST_CASE("plain HTTP GET returns the web page, other paths 404") {
   Logged logged;
   FoxgloveServer server(test_config(logged), viz::FrameEncoder().channels());
   std::string type;
@@ -276,7 +276,7 @@ TEST_CASE("20 clients coming and going while another one receives everything") {
   CHECK(server.stats().clients.size() == 1);
 }
 
-TEST_CASE("bad server configuration is refused; a busy port is a clear error") {
+TEST_CASE("bad server configuration is refused, and a busy port is a clear error") {
   viz::ServerConfig c;
   c.address = "localhost:80";
   CHECK_THROWS_WITH(FoxgloveServer(c, {}), Catch::Contains("not an IP address"));
@@ -285,4 +285,34 @@ TEST_CASE("bad server configuration is refused; a busy port is a clear error") {
   viz::ServerConfig same;
   same.port = first.port();
   CHECK_THROWS_WITH(FoxgloveServer(same, {}), Catch::Contains("cannot listen on 127.0.0.1:"));
+}
+
+TEST_CASE("channels added later (another sensor) are advertised to connected and new clients") {
+  Logged logged;
+  viz::FrameEncoder front;
+  FoxgloveServer server(test_config(logged), front.channels());
+  WsTestClient early(server.port());
+  early.read_json();
+  CHECK(early.read_json()["channels"].size() == 4);
+  viz::FrameEncoderConfig rear_config;
+  rear_config.topic_prefix = "/vlpground/rear";
+  const std::size_t first = server.add_channels(viz::FrameEncoder(rear_config).channels());
+  CHECK(first == 4);
+  const auto update = early.read_json();
+  REQUIRE(update["op"] == "advertise");
+  REQUIRE(update["channels"].size() == 4);
+  CHECK(update["channels"][0]["id"] == 4);
+  CHECK(update["channels"][0]["topic"] == "/vlpground/rear/points");
+  early.subscribe(3, 4);
+  REQUIRE(wait_until([&] { return server.subscribed() == 0b10000u; }));
+  server.publish(4, 9, bytes_of("rear cloud"));
+  const auto m = early.read_data();
+  CHECK(m.subscription == 3);
+  CHECK(m.payload == "rear cloud");
+
+  WsTestClient late(server.port());
+  late.read_json();
+  CHECK(late.read_json()["channels"].size() == 8);
+  std::vector<viz::ChannelSpec> too_many(25, front.channels()[0]);
+  CHECK_THROWS_WITH(server.add_channels(too_many), Catch::Contains("at most 32"));
 }

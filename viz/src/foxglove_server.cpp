@@ -71,7 +71,9 @@ struct FoxgloveServer::Impl {
       throw std::invalid_argument("foxglove server: at most 32 channels");
     }
     core.config = std::move(config);
+    core.channels.reserve(detail::kMaxChannels);
     core.channels = std::move(channels);
+    core.channel_count = core.channels.size();
     core.server_info = detail::server_info_json(core.config.name, session_id());
     core.advertise = detail::advertise_json(core.channels);
     listen();
@@ -123,7 +125,7 @@ struct FoxgloveServer::Impl {
   }
 
   void publish(std::size_t channel, std::int64_t log_time_ns, std::span<const std::byte> bytes) {
-    if (channel >= core.channels.size() || core.subscribers[channel] <= 0) return;
+    if (channel >= core.channel_count || core.subscribers[channel] <= 0) return;
     auto payload = std::make_shared<const detail::Payload>(bytes.begin(), bytes.end());
     ++core.messages_published;
     std::lock_guard lock(handoff_mutex);
@@ -136,6 +138,27 @@ struct FoxgloveServer::Impl {
       drain_posted = true;
       net::post(ioc, [this] { drain(); });
     }
+  }
+
+  // Appends channels on the server thread and advertises them to the connected clients.
+  std::size_t add_channels(std::vector<ChannelSpec> more) {
+    std::promise<std::size_t> done;
+    net::post(ioc, [&] {
+      if (core.channels.size() + more.size() > detail::kMaxChannels) {
+        done.set_exception(std::make_exception_ptr(
+            std::invalid_argument("foxglove server: at most 32 channels")));
+        return;
+      }
+      const std::size_t first = core.channels.size();
+      core.channels.insert(core.channels.end(), more.begin(), more.end());
+      core.advertise = detail::advertise_json(core.channels);
+      core.channel_count = core.channels.size();
+      const std::string update = detail::advertise_json(more, first);
+      std::lock_guard lock(core.mutex);
+      for (auto& [id, s] : core.sessions) s->send_text(update);
+      done.set_value(first);
+    });
+    return done.get_future().get();
   }
 
   // Server thread: hands the published messages to the sessions.
@@ -174,7 +197,7 @@ std::uint16_t FoxgloveServer::port() const { return impl_->port; }
 
 ChannelMask FoxgloveServer::subscribed() const {
   ChannelMask mask = 0;
-  for (std::size_t i = 0; i < impl_->core.channels.size(); ++i) {
+  for (std::size_t i = 0; i < impl_->core.channel_count; ++i) {
     if (impl_->core.subscribers[i] > 0) mask |= ChannelMask{1} << i;
   }
   return mask;
@@ -183,6 +206,10 @@ ChannelMask FoxgloveServer::subscribed() const {
 void FoxgloveServer::publish(std::size_t channel, std::int64_t log_time_ns,
                              std::span<const std::byte> payload) {
   impl_->publish(channel, log_time_ns, payload);
+}
+
+std::size_t FoxgloveServer::add_channels(std::vector<ChannelSpec> channels) {
+  return impl_->add_channels(std::move(channels));
 }
 
 ServerStats FoxgloveServer::stats() const {

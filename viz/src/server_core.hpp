@@ -21,9 +21,10 @@ class WsSession;
 
 struct ServerCore {
   ServerConfig config;
-  std::vector<ChannelSpec> channels;
+  std::vector<ChannelSpec> channels;  // grown on the server thread only
+  std::atomic<std::size_t> channel_count{0};  // channels.size(), for the other threads
   std::string server_info;  // serverInfo JSON
-  std::string advertise;    // advertise JSON
+  std::string advertise;    // advertise JSON of every channel
 
   std::array<std::atomic<int>, kMaxChannels> subscribers{};  // per channel
   std::atomic<std::uint64_t> next_client_id{1};

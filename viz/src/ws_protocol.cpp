@@ -87,13 +87,13 @@ std::string server_info_json(const std::string& name, const std::string& session
       .dump();
 }
 
-std::string advertise_json(const std::vector<ChannelSpec>& channels) {
+std::string advertise_json(const std::vector<ChannelSpec>& channels, std::size_t first_id) {
   json list = json::array();
   for (std::size_t i = 0; i < channels.size(); ++i) {
     const ChannelSpec& c = channels[i];
     // Binary schemas (protobuf FileDescriptorSet) travel base64-encoded, text schemas as is.
     const bool binary_schema = c.schema_encoding == "protobuf" || c.schema_encoding == "flatbuffer";
-    list.push_back({{"id", i},
+    list.push_back({{"id", first_id + i},
                     {"topic", c.topic},
                     {"encoding", c.message_encoding},
                     {"schemaName", c.schema_name},

@@ -20,7 +20,8 @@ inline constexpr std::string_view kSubprotocols[] = {"foxglove.websocket.v1", "f
 std::string choose_subprotocol(std::string_view requested);
 
 std::string server_info_json(const std::string& name, const std::string& session_id);
-std::string advertise_json(const std::vector<ChannelSpec>& channels);
+/// Advertises `channels` with ids first_id, first_id + 1, ...
+std::string advertise_json(const std::vector<ChannelSpec>& channels, std::size_t first_id = 0);
 enum class StatusLevel : int { info = 0, warning = 1, error = 2 };
 std::string status_json(StatusLevel level, const std::string& message);
 

@@ -31,6 +31,8 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
                  const std::shared_ptr<const Payload>& payload);
   /// Ends the session (idempotent); `dropped`: ended by us for a protocol error.
   void close(const std::string& reason, bool dropped);
+  /// Queues a JSON text message (protocol replies, advertise of new channels).
+  void send_text(std::string text);
 
   [[nodiscard]] ClientStats stats() const;
 
@@ -46,7 +48,6 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   void on_text(std::string_view text);
   void subscribe(const Subscribe& request);
   void unsubscribe(const Unsubscribe& request);
-  void send_text(std::string text);
   void enqueue_data(Pending message);
   bool make_room(std::size_t bytes);
   void write_next();

@@ -10,7 +10,7 @@
 // message, binary frames) or breaks off mid-message is dropped with a log line; the others
 // go on.
 //
-// Thread-safety: publish(), subscribed(), port() and stats() may be called from any thread.
+// Thread-safety: every member may be called from any thread.
 #pragma once
 
 #include <cstddef>
@@ -74,6 +74,9 @@ class FoxgloveServer {
   FoxgloveServer(const FoxgloveServer&) = delete;
   FoxgloveServer& operator=(const FoxgloveServer&) = delete;
 
+  /// Adds channels (e.g. another sensor's) and advertises them to the connected clients;
+  /// returns the id of the first one. At most 32 channels in all (std::invalid_argument).
+  std::size_t add_channels(std::vector<ChannelSpec> channels);
   /// The bound port (useful with port 0).
   [[nodiscard]] std::uint16_t port() const;
   /// Channels with at least one subscriber (bit i = channel i): encode only those.
