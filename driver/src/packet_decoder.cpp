@@ -6,6 +6,7 @@
 
 #include "column_decoding.hpp"
 #include "le_load.hpp"
+#include "time_base.hpp"
 #include "trig_table.hpp"
 
 namespace vlpground {
@@ -53,16 +54,6 @@ DecodeStatus check_layout(std::span<const std::uint8_t> bytes) {
   return DecodeStatus::ok;
 }
 
-std::int64_t floor_div(std::int64_t a, std::int64_t b) {
-  const std::int64_t q = a / b;
-  return (a % b != 0 && (a < 0) != (b < 0)) ? q - 1 : q;
-}
-
-// The time `stamp_ns` past some top of the hour that lies nearest to `reference_ns`.
-std::int64_t nearest_hour_time(std::int64_t stamp_ns, std::int64_t reference_ns) {
-  return stamp_ns + floor_div(reference_ns - stamp_ns + kHourNs / 2, kHourNs) * kHourNs;
-}
-
 }  // namespace
 
 void DecoderConfig::validate() const {
@@ -83,7 +74,8 @@ PacketDecoder::PacketDecoder(const DecoderConfig& config)
     : config_(config),
       vlp16_(std::make_shared<const SensorModel>(SensorModel::builtin(Model::vlp16))),
       hires_(std::make_shared<const SensorModel>(SensorModel::builtin(Model::hires))),
-      constants_(std::make_unique<Constants>()) {
+      constants_(std::make_unique<Constants>()),
+      time_base_(std::make_unique<driver_detail::TimeBase>()) {
   config_.validate();
   if (!config_.calibration_file.empty()) {
     // A calibration describes the actual sensor, whatever the packets call it.
@@ -124,7 +116,7 @@ bool PacketDecoder::set_gps_time_reference(const PositionPacket& position) {
   }
   // The position packet's own stamp counts from the top of the hour nearest its fix time.
   const std::int64_t stamp_ns = std::int64_t{position.stamp_us_past_hour} * 1000;
-  gps_anchor_ns_ = nearest_hour_time(stamp_ns, position.gprmc.utc_ns());
+  gps_anchor_ns_ = driver_detail::nearest_hour_time(stamp_ns, position.gprmc.utc_ns());
   gps_reference_ = true;
   gps_anchor_pending_ = false;
   reference_changed_ = true;
@@ -187,9 +179,7 @@ Model PacketDecoder::choose_model(std::uint8_t product_byte) {
   return product_byte == kProductHiRes ? Model::hires : Model::vlp16;
 }
 
-std::int64_t PacketDecoder::resolve_time_ns(std::uint32_t stamp_us, std::int64_t receive_ns) {
-  const std::int64_t stamp_ns = std::int64_t{stamp_us} * 1000;
-  if (!gps_reference_) return nearest_hour_time(stamp_ns, receive_ns);
+std::int64_t PacketDecoder::gps_time_ns(std::int64_t stamp_ns) {
   if (gps_anchor_pending_) {
     gps_anchor_pending_ = false;
     gps_anchor_ns_ = gps_top_of_hour_ns_ + stamp_ns;
@@ -197,7 +187,7 @@ std::int64_t PacketDecoder::resolve_time_ns(std::uint32_t stamp_us, std::int64_t
   }
   // Nearest to the latest GPS-clock time known: the stamp wrap at the top of the hour then
   // moves to the next hour, keeping time monotonic.
-  gps_anchor_ns_ = nearest_hour_time(stamp_ns, gps_anchor_ns_);
+  gps_anchor_ns_ = driver_detail::nearest_hour_time(stamp_ns, gps_anchor_ns_);
   return gps_anchor_ns_;
 }
 
@@ -250,21 +240,17 @@ DecodeStatus PacketDecoder::decode(std::span<const std::uint8_t> bytes, std::int
   out.mode = mode;
   out.model = choose_model(out.product_byte);
   out.stamp_us_past_hour = stamp_us;
-  out.time_ns = resolve_time_ns(stamp_us, receive_ns);
+  // Continuous from the first packet: see time_base.hpp (host/sensor blend, GPS take-over).
+  const std::int64_t stamp_ns = std::int64_t{stamp_us} * 1000;
+  const driver_detail::TimeBase::Placed placed =
+      gps_reference_ ? time_base_->on_gps(stamp_ns, gps_time_ns(stamp_ns), reference_changed_)
+                     : time_base_->on_host(stamp_ns, receive_ns);
+  reference_changed_ = false;
+  out.time_ns = placed.time_ns;
+  out.time_rebase_ns = placed.rebase_ns;
   out.time_source = gps_reference_ && pps_locked_ ? TimeSource::gps_pps
                     : gps_fix_                    ? TimeSource::gps_no_pps
                                                   : TimeSource::host_clock;
-  out.time_rebase_ns = 0;
-  if (reference_changed_ && have_resolved_) {
-    // Continuity with the previous packet predicts the hour; a new reference that disagrees
-    // moves time by whole hours (host clock to GPS clock).
-    const std::int64_t continuous =
-        nearest_hour_time(std::int64_t{stamp_us} * 1000, last_resolved_ns_);
-    out.time_rebase_ns = out.time_ns - continuous;
-  }
-  reference_changed_ = false;
-  have_resolved_ = true;
-  last_resolved_ns_ = out.time_ns;
   out.first_azimuth_centideg = static_cast<std::uint16_t>(block_azimuth(p));
   out.column_count = dual ? kBlocksPerPacket : kMaxColumnsPerPacket;
   driver_detail::decode_columns(p, constants_->by_model[static_cast<std::size_t>(out.model)], dual,

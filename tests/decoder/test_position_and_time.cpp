@@ -1,5 +1,7 @@
 // Position packets ($GPRMC, PPS) and the hour of the packet stamps.
+#include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <string>
@@ -244,4 +246,45 @@ TEST_CASE("time source: host clock, GPS without PPS, GPS with PPS", "[decoder][t
   decoder.note_gps_status(position);
   REQUIRE(decoder.decode(data_packet(1'003'981), kTopOfHourNs, out) == DecodeStatus::ok);
   CHECK(out.time_source == TimeSource::gps_no_pps);
+}
+
+TEST_CASE("time base: a free-running sensor clock is blended onto the host clock, continuous",
+          "[decoder][time]") {
+  // No GPS: the sensor counts from power-on (stamps from 5 s), the host clock says 22:17.
+  PacketDecoder decoder;
+  DecodedPacket out;
+  constexpr std::int64_t kPeriod = 1'327'104;  // ns, one packet (rounded to the us stamps)
+  const std::int64_t host0 = kTopOfHourNs + 17 * 60 * kSecond + 123'456'789;
+  std::uint32_t stamp = 5'000'000;
+  REQUIRE(decoder.decode(data_packet(stamp), host0, out) == DecodeStatus::ok);
+  CHECK(out.time_ns == host0);  // on the host clock from the first packet
+  CHECK(out.time_source == TimeSource::host_clock);
+  std::int64_t previous = out.time_ns;
+  std::int64_t worst_step_error = 0;
+  // The host clock runs 100 ppm fast against the sensor and jitters by up to 0.3 ms.
+  for (int k = 1; k <= 20'000; ++k) {
+    stamp += 1327;
+    const std::int64_t jitter = ((k * 7919) % 600 - 300) * 1000;
+    const std::int64_t host = host0 + k * kPeriod + k * kPeriod / 10'000 + jitter;
+    REQUIRE(decoder.decode(data_packet(stamp), host, out) == DecodeStatus::ok);
+    const std::int64_t step = out.time_ns - previous;
+    worst_step_error = std::max(worst_step_error, std::abs(step - 1'327'000));
+    previous = out.time_ns;
+  }
+  CHECK(worst_step_error <= 1'000);  // the sensor's steps, at most 1 us of slew per packet
+  const std::int64_t host_now = host0 + 20'000 * kPeriod + 20'000 * kPeriod / 10'000;
+  CHECK(std::abs(out.time_ns - host_now) < 1'000'000);  // drift followed to within 1 ms
+}
+
+TEST_CASE("time base: a sensor clock on the host clock keeps its exact stamps",
+          "[decoder][time]") {
+  PacketDecoder decoder;
+  DecodedPacket out;
+  for (int k = 0; k < 100; ++k) {
+    const std::uint32_t stamp = 1'000'000 + static_cast<std::uint32_t>(k) * 1327;
+    // Received 0.4-0.9 ms after the firing: latency, not a clock offset.
+    const std::int64_t receive = kTopOfHourNs + std::int64_t{stamp} * 1000 + 400'000 + k * 5'000;
+    REQUIRE(decoder.decode(data_packet(stamp), receive, out) == DecodeStatus::ok);
+    CHECK(out.time_ns == kTopOfHourNs + std::int64_t{stamp} * 1000);
+  }
 }

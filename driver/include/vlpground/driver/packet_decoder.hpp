@@ -19,6 +19,9 @@
 #include "vlpground/types.hpp"
 
 namespace vlpground {
+namespace driver_detail {
+class TimeBase;
+}
 
 inline constexpr std::size_t kDataPacketBytes = 1206;
 inline constexpr std::size_t kPositionPacketBytes = 512;
@@ -159,12 +162,13 @@ class PacketDecoder {
   enum class Family : std::uint8_t { unknown, vlp16, other };
   void judge_timing(std::uint32_t stamp_us);
   Model choose_model(std::uint8_t product_byte);
-  std::int64_t resolve_time_ns(std::uint32_t stamp_us, std::int64_t receive_ns);
+  std::int64_t gps_time_ns(std::int64_t stamp_ns);
   void warn_once(bool& raised, ErrorCode code, std::string message);
 
   DecoderConfig config_;
   std::shared_ptr<const SensorModel> vlp16_, hires_;
   std::unique_ptr<Constants> constants_;
+  std::unique_ptr<driver_detail::TimeBase> time_base_;  // time_base.hpp
   DecoderCounters counters_;
   std::string last_warning_;
   ErrorCode last_warning_code_ = ErrorCode::product_mismatch;
@@ -186,8 +190,6 @@ class PacketDecoder {
   bool reference_changed_ = false;  // a GPS reference arrived since the last packet
   bool gps_fix_ = false;            // latest position packet: valid $GPRMC
   bool pps_locked_ = true;          // latest position packet: PPS locked (assumed until one)
-  bool have_resolved_ = false;
-  std::int64_t last_resolved_ns_ = 0;  // time of the previous decoded packet
 };
 
 }  // namespace vlpground
