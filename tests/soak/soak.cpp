@@ -107,15 +107,18 @@ struct FrameChecks {
   std::uint64_t frames = 0, complete = 0, cut_wrong = 0, time_backwards = 0, stream_changes = 0;
   std::uint64_t dual = 0;
   std::int64_t last_time_ns = 0, last_first_time_ns = 0;
+  TimeSource last_source = TimeSource::host_clock;
   std::uint64_t next_sequence = 0;
   bool after_change = true;
   std::string first_time_error;
   std::string first_cut_error;
 
-  // A clock re-base: the first GPS hour (the simulated captures are from 2023) replaced the
-  // host clock's after a frame was already out. It moves time by whole hours, so the step
-  // from the previous frame's start is a whole number of hours plus at most a rotation.
+  // A clock re-base: the first GPS time (the simulated captures are from 2023) replaced the
+  // host clock after a frame was already out: the frame's time source changes (the step
+  // is arbitrary when the sensor clock was blended onto the host clock), or a later GPS
+  // hour moves time by whole hours (plus at most a rotation).
   bool rebased(const FrameMeta& m) const {
+    if (m.time_source != last_source) return true;
     constexpr std::int64_t kHourNs = 3'600'000'000'000;
     const std::int64_t back = last_first_time_ns - m.first_time_ns;
     const std::int64_t rest = back % kHourNs;
@@ -141,6 +144,7 @@ struct FrameChecks {
     }
     last_time_ns = m.last_time_ns;
     last_first_time_ns = m.first_time_ns;
+    last_source = m.time_source;
     next_sequence = m.sequence + 1;
     after_change = m.end == FrameEnd::stream_change || m.end == FrameEnd::silence;
     if (!m.complete || m.end != FrameEnd::cut) return;
