@@ -14,6 +14,7 @@
 #include "arrays.hpp"
 #include "bindings.hpp"
 #include "conversions.hpp"
+#include "vlpground/driver/sensor_model.hpp"
 
 namespace vlpground::python {
 namespace {
@@ -303,6 +304,17 @@ void bind_meta(py::module_& m) {
                              "'capacity' or 'stream_change'.")
       .def_property_readonly("completed_receive_ns",
                              [](const M& x) { return x.frame.completed_receive_ns; })
+      .def_property_readonly("time_source",
+                             [](const M& x) { return std::string(to_string(x.frame.time_source)); },
+                             "How the frame's times were placed: 'host_clock', 'gps_no_pps' or "
+                             "'gps_pps' (UTC from GPS with PPS locked).")
+      .def_property_readonly("calibration",
+                             [](const M& x) {
+                               return x.frame.calibration ? x.frame.calibration->source
+                                                          : std::string("built-in");
+                             },
+                             "Geometry the frame was decoded with: 'built-in' or the "
+                             "calibration file's path.")
       .def_property_readonly("gps", [](const M& x) { return x.gps; })
       .def_property_readonly("counters", [](const M& x) { return counters_dict(x.counters); },
                              "Reader counters (source, decoder, assembler) when the frame was "

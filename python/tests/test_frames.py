@@ -122,6 +122,7 @@ def test_meta_planes_and_points_fields():
     assert gps.has_position and gps.pps == "locked" and gps.gprmc == "valid"
     assert abs(gps.utc_ns - f.meta.start_time_ns) < 2_000_000_000
     assert gps.sentence.startswith("$GPRMC") and abs(gps.latitude_deg - 48.1173) < 1e-3
+    assert f.meta.time_source == "gps_pps" and f.meta.calibration == "built-in"
     assert f.meta.counters["source"]["data_packets"] >= f.meta.packets_used
     assert frames[-1].meta.counters["assembler"]["frames"] == len(frames)
     assert len(f.planes) == 4 and any(s.has_ground for s in f.planes)
