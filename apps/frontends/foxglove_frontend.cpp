@@ -80,6 +80,9 @@ class FoxgloveSink : public FrameSink {
     if ((mine() >> viz::kStatusChannel & 1u) != 0) encoder_.encode_status(stats, now_ns(), publish_);
   }
   void on_position(const PositionPacket& p) override { encoder_.note_position(p); }
+  // The last frames of a run reach every reading client before the server closes (at most
+  // a second: a client that stopped reading keeps its queue).
+  void finish() override { server_->flush(std::chrono::seconds(1)); }
 
  private:
   [[nodiscard]] viz::ChannelMask mine() const {

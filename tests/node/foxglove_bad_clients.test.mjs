@@ -59,6 +59,8 @@ test("bad clients are dropped with a log line, a stuck one stays bounded, the go
 
   const code = await run.exited;
   assert.equal(code, 0, run.stderr());
+  // The server closes the connection after the last message: every message has arrived then.
+  await waitFor(() => good.closed, "the good client to see the server close");
   const summary = JSON.parse(run.stdout());
   assert.equal(summary.frames.dropped, 0, "the pipeline dropped no frame");
   const log = run.stderr();

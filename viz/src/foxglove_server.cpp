@@ -212,6 +212,26 @@ std::size_t FoxgloveServer::add_channels(std::vector<ChannelSpec> channels) {
   return impl_->add_channels(std::move(channels));
 }
 
+bool FoxgloveServer::flush(std::chrono::milliseconds timeout) {
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + timeout;
+  // Messages still in the hand-off queue go to the sessions first, on the server thread.
+  std::promise<void> drained;
+  net::post(impl_->ioc, [this, &drained] {
+    impl_->drain();
+    drained.set_value();
+  });
+  if (drained.get_future().wait_until(deadline) != std::future_status::ready) return false;
+  // Then the sessions write their queues; poll their counters until empty or the deadline.
+  while (true) {
+    bool empty = true;
+    for (const ClientStats& c : stats().clients) empty = empty && c.queued_bytes == 0;
+    if (empty) return true;
+    if (Clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+}
+
 ServerStats FoxgloveServer::stats() const {
   const auto& c = impl_->core;
   ServerStats s;

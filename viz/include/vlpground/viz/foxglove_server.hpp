@@ -13,6 +13,7 @@
 // Thread-safety: every member may be called from any thread.
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -84,6 +85,11 @@ class FoxgloveServer {
   /// Sends one message of `channel` to its subscribers; copies `payload` and returns at once.
   void publish(std::size_t channel, std::int64_t log_time_ns, std::span<const std::byte> payload);
   [[nodiscard]] ServerStats stats() const;
+  /// Hands every published message to the clients and waits until their queues are empty
+  /// or `timeout` passed (a client that does not read keeps its queue); true when all were
+  /// sent. Call it before destroying the server so that the last frames of a run arrive.
+  bool flush(std::chrono::milliseconds timeout);
+
 
  private:
   struct Impl;
