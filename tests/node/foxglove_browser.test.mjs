@@ -149,7 +149,9 @@ test("the web page in headless Chromium: frame counter advancing, ground and obs
   } finally {
     cdp?.close();
     if (chromium) { chromium.proc.kill("SIGKILL"); await new Promise((r) => chromium.proc.once("exit", r)).catch(() => {}); }
-    rmSync(profile, { recursive: true, force: true });
+    // Chromium's helper processes may still write into the profile for a moment after the
+    // browser was killed: retry, and never let the clean-up hide the test's own result.
+    try { rmSync(profile, { recursive: true, force: true, maxRetries: 10, retryDelay: 200 }); } catch {}
     if (run) await stopCli(run);
   }
 });
