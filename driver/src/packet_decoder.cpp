@@ -26,7 +26,6 @@ constexpr std::size_t kBlockBytes = 100;
 constexpr std::size_t kStampOffset = 1200;
 constexpr std::size_t kModeOffset = 1204;
 constexpr std::size_t kProductOffset = 1205;
-constexpr std::int64_t kHourNs = 3'600'000'000'000;
 constexpr std::int64_t kHourUs = 3'600'000'000;
 
 void clear_last_layer(DecodedPacket& out) {
