@@ -62,20 +62,6 @@ CaptureFacts read_frames(const PcapSourceConfig& pcap, const DecoderConfig& deco
   return facts;
 }
 
-const char* pps_name(PpsStatus s) {
-  switch (s) {
-    case PpsStatus::absent:
-      return "absent";
-    case PpsStatus::synchronizing:
-      return "synchronizing";
-    case PpsStatus::locked:
-      return "locked";
-    case PpsStatus::error:
-      return "error";
-  }
-  return "?";
-}
-
 const char* mode_name(std::uint8_t byte) {
   switch (byte) {
     case kModeStrongest:

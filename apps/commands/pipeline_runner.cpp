@@ -104,9 +104,8 @@ int run_pipeline(RunRequest request) {
   });
   pipeline->on_telemetry([&](const PositionPacket& p) {
     sinks->on_position(p);
-    static constexpr const char* kPps[] = {"absent", "synchronizing", "locked", "error"};
     char line[96];
-    std::snprintf(line, sizeof line, "PPS %s, GPRMC %s", kPps[static_cast<int>(p.pps) & 3],
+    std::snprintf(line, sizeof line, "PPS %s, GPRMC %s", pps_name(p.pps),
                   p.gprmc.parsed ? (p.gprmc.valid ? "valid" : "void") : "absent");
     std::lock_guard lock(gps_mutex);
     gps = line;

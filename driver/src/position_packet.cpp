@@ -162,4 +162,18 @@ bool parse_position_packet(std::span<const std::uint8_t> bytes, std::int64_t rec
   return true;
 }
 
+const char* pps_name(PpsStatus pps) {
+  switch (pps) {
+    case PpsStatus::absent:
+      return "absent";
+    case PpsStatus::synchronizing:
+      return "synchronizing";
+    case PpsStatus::locked:
+      return "locked";
+    case PpsStatus::error:
+      return "error";
+  }
+  return "absent";
+}
+
 }  // namespace vlpground

@@ -221,7 +221,6 @@ std::vector<std::string> default_fields() {
 
 // ----------------------------------------------------------------- metadata
 
-constexpr const char* kPpsNames[] = {"absent", "synchronizing", "locked", "error"};
 
 const char* end_name(FrameEnd e) {
   switch (e) {
@@ -249,7 +248,7 @@ void bind_meta(py::module_& m) {
           "has_position", [](const GpsState& g) { return g.has_position; },
           "True once a position packet (UDP 8308) was seen.")
       .def_property_readonly(
-          "pps", [](const GpsState& g) { return kPpsNames[static_cast<int>(g.last.pps) & 3]; },
+          "pps", [](const GpsState& g) { return pps_name(g.last.pps); },
           "PPS status: 'absent', 'synchronizing', 'locked' or 'error'.")
       .def_property_readonly(
           "gprmc",
@@ -271,7 +270,7 @@ void bind_meta(py::module_& m) {
       .def_property_readonly("sentence",
                              [](const GpsState& g) { return std::string(g.last.sentence); })
       .def("__repr__", [](const GpsState& g) {
-        return std::string("GpsState(pps=") + kPpsNames[static_cast<int>(g.last.pps) & 3] +
+        return std::string("GpsState(pps=") + pps_name(g.last.pps) +
                ", gprmc=" +
                (g.last.gprmc.parsed ? (g.last.gprmc.valid ? "valid" : "void") : "absent") + ")";
       });

@@ -12,20 +12,6 @@ json latency_json(const LatencyStats& s) {
           {"max_ms", s.max_ms},   {"mean_ms", s.mean_ms}};
 }
 
-const char* pps_name(PpsStatus pps) {
-  switch (pps) {
-    case PpsStatus::absent:
-      return "absent";
-    case PpsStatus::synchronizing:
-      return "synchronizing";
-    case PpsStatus::locked:
-      return "locked";
-    case PpsStatus::error:
-      return "error";
-  }
-  return "absent";
-}
-
 json gps_json(const PositionPacket* p) {
   if (p == nullptr) return {{"position_packets", false}, {"pps", "absent"}, {"gprmc", "absent"}};
   json j{{"position_packets", true},

@@ -44,4 +44,7 @@ bool parse_position_packet(std::span<const std::uint8_t> bytes, std::int64_t rec
 /// Parses one "$GPRMC,...*hh" sentence (also accepts $GNRMC). Never throws.
 Gprmc parse_gprmc(const char* sentence, std::size_t length);
 
+/// "absent", "synchronizing", "locked" or "error": the one spelling every output uses.
+const char* pps_name(PpsStatus pps);
+
 }  // namespace vlpground
