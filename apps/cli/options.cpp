@@ -104,6 +104,15 @@ void add_detector_options(CLI::App& cmd, PipelineConfig& config) {
       ->check(CLI::IsMember({"on", "off"}))
       ->default_str("on")
       ->group(group);
+  cmd.add_option_function<std::string>(
+         "--column-profiles",
+         [&d](const std::string& v) { d.column_profiles = v == "on"; },
+         "tangent method with terrain refinement: label every column of the range image by "
+         "its own ground profile (on; better on banks, embankments, ramps, hills, but more "
+         "obstacles taken for ground), or by the cells (off)")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->default_str("off")
+      ->group(group);
 }
 
 void add_frames_option(CLI::App& cmd, std::uint64_t& frames) {

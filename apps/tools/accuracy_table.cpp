@@ -29,8 +29,10 @@ struct Method {
   const char* name;
   vlpground::GroundMethod detector_method;
   bool refinement;
+  bool profiles = false;
 };
 constexpr Method kMethods[] = {{"tangent", vlpground::GroundMethod::tangent, true},
+                               {"tangent-profiles", vlpground::GroundMethod::tangent, true, true},
                                {"tangent-paper", vlpground::GroundMethod::tangent, false},
                                {"ransac", vlpground::GroundMethod::ransac, false},
                                {"lpr", vlpground::GroundMethod::lpr, false}};
@@ -59,6 +61,7 @@ std::vector<CaptureScore> score(const fs::path& pcap, int frames) {
     vlpground::DetectorConfig& c = configs.emplace_back();
     c.method = m.detector_method;
     c.terrain_refinement = m.refinement;
+    c.column_profiles = m.profiles;
     if (fs::exists(json)) c.extrinsics = vlpground::eval::load_sim_extrinsics(json);
   }
   vlpground::eval::CaptureScoreOptions options;
@@ -103,7 +106,8 @@ void print_preamble(const std::string& sources, int frames, const std::string& r
   std::printf(
       "Methods: `tangent` is the default: the paper's detector (tangent-verified RANSAC over "
       "a searched cross partition) with terrain refinement (`DetectorConfig::"
-      "terrain_refinement`, docs/detector.md); `tangent-paper` is the paper's detector "
+      "terrain_refinement`, docs/detector.md); `tangent-profiles` adds the column profiles "
+      "(`column_profiles = true`, off by default); `tangent-paper` is the paper's detector "
       "alone (`terrain_refinement = false`); `ransac` is vanilla single-plane RANSAC (200 "
       "hypotheses, epsilon 0.2 m, the winner refit by least squares on its inliers); `lpr` is "
       "the ground plane fitting of Zermas et al. 2017 (three equal longitudinal thirds of "

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "binning.hpp"
+#include "column_profile.hpp"
 #include "hypotheses.hpp"
 #include "labelling.hpp"
 #include "method.hpp"
@@ -241,6 +242,7 @@ class TangentMethod final : public Method {
       if (cfg_.terrain_refinement) {
         cells_.fit(cand_, bin_slot_, segment_planes(out, false), cell_params());
         cells_.relabel(cloud, facts(), rule, ground_, height_);
+        if (cfg_.column_profiles) follow_columns(cloud);
       }
     }
     constexpr auto kGround = static_cast<std::uint8_t>(GroundLabel::ground);
@@ -256,6 +258,21 @@ class TangentMethod final : public Method {
         if (any) out.height_m[1][cell] = height_[i];
       }
     }
+  }
+
+  // Level 3: column profiles label every return; level 2's surface checks single rises.
+  void follow_columns(const Cloud& cloud) {
+    ProfileParams pp;
+    pp.sensor_x = origin_x_;
+    pp.sensor_y = origin_y_;
+    pp.sensor_z = static_cast<float>(cfg_.extrinsics.z_m);
+    pp.vehicle = cells_.vehicle_surface();
+    pp.label_up_m = label_up_;
+    pp.label_down_m = label_down_;
+    pp.steep_band_m = steep_up_;
+    profiles_.label(cloud, steep_.data(), height_, pp, profile_ground_, profile_height_);
+    std::copy(profile_ground_.begin(), profile_ground_.end(), ground_.begin());
+    std::copy(profile_height_.begin(), profile_height_.end(), height_.begin());
   }
 
   [[nodiscard]] CellParams cell_params() const {
@@ -307,6 +324,9 @@ class TangentMethod final : public Method {
   std::vector<std::int32_t> scores_;
   SearchScratch search_scratch_;
   TerrainCells cells_;
+  ColumnProfiles profiles_;
+  std::vector<std::uint8_t> profile_ground_;
+  std::vector<float> profile_height_;
   bool own_[4] = {false, false, false, false};
   std::vector<std::uint8_t> support_, ground_;
   std::vector<float> height_;

@@ -174,6 +174,13 @@ struct TerrainCells::Fit {
   }
 };
 
+bool TerrainCells::replaced_at(float x, float y) const {
+  const float gx = (x - p_.x_lo) / p_.bin_m, gy = (y - p_.y_lo) / p_.bin_m;
+  const auto bins = static_cast<float>(p_.bins);
+  if (!(gx >= 0.f && gy >= 0.f && gx < bins && gy < bins) || replace_.empty()) return false;
+  return replace_[idx(cell_of(x, y))] != 0;
+}
+
 bool TerrainCells::near_vehicle(int cell) const {
   const Fit f(p_, side_, cell);
   const float dx = f.xc - p_.sensor_x, dy = f.yc - p_.sensor_y;
@@ -482,6 +489,8 @@ void TerrainCells::fit(const Candidates& cand, const std::vector<std::int32_t>& 
   if (segment_explained_[0] && segment_explained_[1] && segment_explained_[2] &&
       segment_explained_[3]) {
     std::fill(state_.begin(), state_.end(), CellState::level1);
+    vehicle_cell_ = idx(cell_of(p_.sensor_x, p_.sensor_y));
+    surface_[vehicle_cell_] = level1_at(p_.sensor_x, p_.sensor_y);
     return;
   }
   auto settle = [&](int cell, const HeightPlane& s, bool fitted) {
@@ -500,6 +509,7 @@ void TerrainCells::fit(const Candidates& cand, const std::vector<std::int32_t>& 
   // each correcting the surface of a fitted neighbour; a failed cell may be retried from
   // another fitted neighbour. Surfaces are never extrapolated through failed cells.
   const int start = cell_of(p_.sensor_x, p_.sensor_y);
+  vehicle_cell_ = idx(start);
   const HeightPlane seed = vehicle_seed(
       cand, bin_slot, level1.plane[segment_at(p_.sensor_x, p_.sensor_y, level1.cx, level1.cy)]);
   HeightPlane s;

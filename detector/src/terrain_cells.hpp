@@ -83,6 +83,10 @@ class TerrainCells {
   }
   /// Cells whose surface replaces the level-1 plane in labels.
   [[nodiscard]] int replaced_cells() const { return replaced_; }
+  /// True when (x, y) lies in a cell whose surface replaces the level-1 plane.
+  [[nodiscard]] bool replaced_at(float x, float y) const;
+  /// The surface of the cell under the sensor (valid once a fit replaced a cell).
+  [[nodiscard]] const HeightPlane& vehicle_surface() const { return surface_[vehicle_cell_]; }
 
  private:
   struct Fit;
@@ -105,6 +109,7 @@ class TerrainCells {
 
   CellParams p_;
   int side_ = 0, replaced_ = 0;
+  std::size_t vehicle_cell_ = 0;
   std::vector<HeightPlane> surface_;
   std::vector<CellState> state_;
   std::vector<std::uint8_t> replace_;

@@ -1,0 +1,134 @@
+#include "column_profile.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vlpground::detail {
+
+namespace {
+using Index = std::size_t;
+}  // namespace
+
+void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
+                           const std::vector<float>& level2_height, const ProfileParams& params,
+                           std::vector<std::uint8_t>& ground, std::vector<float>& height) {
+  p_ = params;
+  ground.assign(cloud.size(), 0);
+  height.assign(cloud.size(), std::nanf(""));
+  sort_by_column(cloud);
+  for (Index c = 0; c + 1 < column_start_.size(); ++c) {
+    walk_column(cloud, steep, column_start_[c], column_start_[c + 1], ground, height);
+    check_single_rises(column_start_[c], column_start_[c + 1], level2_height, ground);
+  }
+}
+
+// Counting sort by column; the cloud is in (layer, ring, column) order, so each column's
+// points come out ring-ascending per layer. The layers are then merged by ring and range
+// with an insertion sort (at most 32 points per column).
+void ColumnProfiles::sort_by_column(const Cloud& cloud) {
+  int columns = 0;
+  for (Index i = 0; i < cloud.size(); ++i) columns = std::max(columns, cloud.column[i] + 1);
+  column_start_.assign(static_cast<Index>(columns) + 1, 0);
+  for (Index i = 0; i < cloud.size(); ++i) ++column_start_[cloud.column[i] + 1u];
+  for (Index c = 1; c < column_start_.size(); ++c) column_start_[c] += column_start_[c - 1];
+  cursor_.assign(column_start_.begin(), column_start_.end() - 1);
+  items_.resize(cloud.size());
+  for (Index i = 0; i < cloud.size(); ++i) {
+    items_[cursor_[cloud.column[i]]++] = static_cast<std::uint32_t>(i);
+  }
+  auto before = [&](std::uint32_t u, std::uint32_t w) {
+    return cloud.ring[u] != cloud.ring[w] ? cloud.ring[u] < cloud.ring[w]
+                                          : cloud.range_xy[u] < cloud.range_xy[w];
+  };
+  for (Index c = 0; c + 1 < column_start_.size(); ++c) {
+    std::uint32_t* first = items_.data() + column_start_[c];
+    std::uint32_t* last = items_.data() + column_start_[c + 1];
+    for (std::uint32_t* a = first + 1; a < last; ++a) {
+      const std::uint32_t v = *a;
+      std::uint32_t* b = a;
+      for (; b > first && before(v, *(b - 1)); --b) *b = *(b - 1);
+      *b = v;
+    }
+  }
+}
+
+// One column outwards from the sensor. The profile is the last ground return (r, z) and
+// the gradient dz/dr along the column, starting at the ground under the sensor.
+void ColumnProfiles::walk_column(const Cloud& cloud, const std::uint8_t* steep, Index begin,
+                                 Index end, std::vector<std::uint8_t>& ground,
+                                 std::vector<float>& height) {
+  if (begin == end) return;
+  // The profile starts level under the sensor: at z = 0 when the mounting height is known
+  // (the vehicle frame's ground), else on the vehicle's surface. Starting with that
+  // surface's gradient was worse on hills (a local tilt extrapolated 10 m).
+  float last_r = 0.f;
+  float last_z = p_.sensor_z > 0.f ? 0.f : p_.vehicle.at(p_.sensor_x, p_.sensor_y);
+  float gradient = 0.f;
+  bool blocked = false;  // an obstacle return since the last ground return
+  for (Index k = begin; k < end; ++k) {
+    const Index i = items_[k];
+    const float r = cloud.range_xy[i], z = cloud.z[i];
+    const float advance = r - last_r;
+    const float over = z - (last_z + gradient * std::max(advance, 0.f));
+    height[i] = over;
+    if (steep[i] != 0) {  // a wall, a car side, a pole
+      ground[i] = std::abs(over) < p_.steep_band_m;
+      blocked = true;
+      continue;
+    }
+    if (advance < p_.min_advance_m) {  // under or over the last ground return
+      ground[i] = over > -p_.label_down_m && over < p_.label_up_m;
+      continue;
+    }
+    const float step = (z - last_z) / advance;  // gradient from the last ground return
+    bool accept = false;
+    float next_gradient = 0.f;
+    if (over < -p_.drop_m) {  // a lower surface (fields below a levee): level from here
+      accept = true;
+    } else {
+      const float rise = blocked ? p_.blocked_rise_m + p_.blocked_rise_per_m * advance
+                                 : p_.rise_m + p_.rise_per_m * advance;
+      accept = std::abs(step) <= p_.max_gradient && over <= rise;
+      next_gradient = std::clamp(step, gradient - p_.gradient_step, gradient + p_.gradient_step);
+    }
+    if (!accept) {
+      blocked = true;
+      continue;
+    }
+    ground[i] = 1;
+    last_r = r;
+    last_z = z;
+    gradient = next_gradient;
+    blocked = false;
+  }
+}
+
+// A ground return raised over the level-2 surface needs a raised ground neighbour in its
+// column (the return before or after it along the profile).
+void ColumnProfiles::check_single_rises(Index begin, Index end,
+                                        const std::vector<float>& level2_height,
+                                        std::vector<std::uint8_t>& ground) {
+  auto raised = [&](Index i, float by) {
+    const float h = level2_height[i];
+    return std::isfinite(h) && h > by;
+  };
+  Index previous = end;  // previous ground return of the column (position in items_)
+  for (Index k = begin; k < end; ++k) {
+    const Index i = items_[k];
+    if (ground[i] == 0) continue;
+    if (raised(i, p_.single_rise_m)) {
+      Index next = k + 1;
+      while (next < end && ground[items_[next]] == 0) ++next;
+      const bool before = previous < end && raised(items_[previous], 0.5f * p_.single_rise_m);
+      const bool after = next < end && raised(items_[next], 0.5f * p_.single_rise_m);
+      if (!before && !after) {
+        previous = k;  // still the profile's last ground return for the neighbour test
+        ground[i] = 0;
+        continue;
+      }
+    }
+    previous = k;
+  }
+}
+
+}  // namespace vlpground::detail

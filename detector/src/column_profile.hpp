@@ -1,0 +1,62 @@
+// Third level of the tangent method's terrain model (docs/detector.md, "Column profiles"):
+// where the cells of level 2 replace the paper's planes, each column of the range image is
+// walked outwards ring by ring from the ground under the vehicle, and a return continues the
+// column's ground profile when the surface from the last ground return to it is a plausible
+// continuation (gradient, gradient change, no step up); a return on a steep surface, or
+// standing over the extrapolated profile, is an obstacle. Terrain of any curvature the rings
+// can sample (a bank face, fields below a levee, a ramp) follows; what the column alone
+// cannot tell apart (one ring line on a fence or a box between two ground returns) is
+// checked against the level-2 surface.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "method.hpp"
+#include "terrain_cells.hpp"
+
+namespace vlpground::detail {
+
+struct ProfileParams {
+  float sensor_x = 0, sensor_y = 0;
+  float sensor_z = 0;  // mounting height (extrinsics z; 0 = unknown)
+  HeightPlane vehicle;  // the ground under the sensor (level 2), used when sensor_z is 0
+  float max_gradient = 0.62f;   // steepest ground (32 degrees), as the cells
+  float gradient_step = 0.3f;   // largest change of the profile's gradient at one return
+  // Rise over the extrapolated profile a return may have: rise_m + rise_per_m x distance
+  // from the last ground return (the profile may bend up); after an obstacle return in the
+  // column only blocked_rise_m + blocked_rise_per_m x distance (no climbing onto a roof).
+  float rise_m = 0.25f, rise_per_m = 0.12f;
+  float blocked_rise_m = 0.25f, blocked_rise_per_m = 0.03f;
+  float drop_m = 0.5f;         // a return this far under the profile starts a lower surface
+  float min_advance_m = 0.3f;  // nearer than this (horizontally) to the last ground return
+  float steep_band_m = 0.06f;  // a steep return is ground only this close to the profile
+  float label_up_m = 0.18f, label_down_m = 0.5f;  // band for returns that do not advance
+  // A ground return more than this over the level-2 surface stays ground only when the
+  // ground return before or after it in its column is raised too (a bank rises over
+  // several rings; a fence or a box side is one ring line).
+  float single_rise_m = 0.3f;
+};
+
+class ColumnProfiles {
+ public:
+  /// Labels every cloud point by its column's profile: ground[i] (0/1) and height[i] over
+  /// the profile. `level2_height` is each point's height over the level-2 surface (NaN:
+  /// none). Allocates nothing once the buffers have grown to the largest frame.
+  void label(const Cloud& cloud, const std::uint8_t* steep, const std::vector<float>& level2_height,
+             const ProfileParams& params, std::vector<std::uint8_t>& ground,
+             std::vector<float>& height);
+
+ private:
+  void sort_by_column(const Cloud& cloud);
+  void walk_column(const Cloud& cloud, const std::uint8_t* steep, std::size_t begin,
+                   std::size_t end, std::vector<std::uint8_t>& ground, std::vector<float>& height);
+  void check_single_rises(std::size_t begin, std::size_t end,
+                          const std::vector<float>& level2_height,
+                          std::vector<std::uint8_t>& ground);
+
+  ProfileParams p_;
+  std::vector<std::uint32_t> column_start_, cursor_, items_;
+};
+
+}  // namespace vlpground::detail
