@@ -52,6 +52,24 @@ void ColumnProfiles::sort_by_column(const Cloud& cloud) {
   }
 }
 
+void ColumnProfiles::add_to_profile(float r, float z) {
+  if (profile_size_ == profile_r_.size()) return;
+  profile_r_[profile_size_] = r;
+  profile_z_[profile_size_] = z;
+  ++profile_size_;
+}
+
+// Height of the walked profile at horizontal distance r (its ground returns are in walking
+// order, increasing r), linear between the returns around r.
+float ColumnProfiles::profile_at(float r) const {
+  std::size_t k = 1;
+  while (k < profile_size_ && profile_r_[k] < r) ++k;
+  if (k >= profile_size_) return profile_z_[profile_size_ - 1];
+  const float r0 = profile_r_[k - 1], r1 = profile_r_[k];
+  const float t = r1 > r0 ? std::clamp((r - r0) / (r1 - r0), 0.f, 1.f) : 1.f;
+  return profile_z_[k - 1] + t * (profile_z_[k] - profile_z_[k - 1]);
+}
+
 // One column outwards from the sensor. The profile is the last ground return (r, z) and
 // the gradient dz/dr along the column, starting at the ground under the sensor.
 void ColumnProfiles::walk_column(const Cloud& cloud, const std::uint8_t* steep, Index begin,
@@ -65,18 +83,22 @@ void ColumnProfiles::walk_column(const Cloud& cloud, const std::uint8_t* steep, 
   float last_z = p_.sensor_z > 0.f ? 0.f : p_.vehicle.at(p_.sensor_x, p_.sensor_y);
   float gradient = 0.f;
   bool blocked = false;  // an obstacle return since the last ground return
+  profile_size_ = 0;
+  add_to_profile(last_r, last_z);
   for (Index k = begin; k < end; ++k) {
     const Index i = items_[k];
     const float r = cloud.range_xy[i], z = cloud.z[i];
     const float advance = r - last_r;
-    const float over = z - (last_z + gradient * std::max(advance, 0.f));
+    // Beyond the last ground return the profile is extrapolated; nearer (a canopy or a
+    // wall seen by a higher ring in front of ground already walked), it is interpolated.
+    const float over = advance >= 0.f ? z - (last_z + gradient * advance) : z - profile_at(r);
     height[i] = over;
     if (steep[i] != 0) {  // a wall, a car side, a pole
       ground[i] = std::abs(over) < p_.steep_band_m;
       blocked = true;
       continue;
     }
-    if (advance < p_.min_advance_m) {  // under or over the last ground return
+    if (advance < p_.min_advance_m) {  // over or under ground already walked
       ground[i] = over > -p_.label_down_m && over < p_.label_up_m;
       continue;
     }
@@ -98,6 +120,7 @@ void ColumnProfiles::walk_column(const Cloud& cloud, const std::uint8_t* steep, 
     ground[i] = 1;
     last_r = r;
     last_z = z;
+    add_to_profile(r, z);
     gradient = next_gradient;
     blocked = false;
   }

@@ -9,6 +9,7 @@
 // checked against the level-2 surface.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -55,7 +56,13 @@ class ColumnProfiles {
                           const std::vector<float>& level2_height,
                           std::vector<std::uint8_t>& ground);
 
+  void add_to_profile(float r, float z);
+  [[nodiscard]] float profile_at(float r) const;
+
   ProfileParams p_;
+  // The ground returns walked in the current column (the start under the sensor first).
+  std::array<float, 2 * kLasers + 1> profile_r_{}, profile_z_{};
+  std::size_t profile_size_ = 0;
   std::vector<std::uint32_t> column_start_, cursor_, items_;
 };
 
