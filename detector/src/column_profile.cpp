@@ -18,8 +18,55 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   sort_by_column(cloud);
   for (Index c = 0; c + 1 < column_start_.size(); ++c) {
     walk_column(cloud, steep, column_start_[c], column_start_[c + 1], ground, height);
-    check_single_rises(column_start_[c], column_start_[c + 1], level2_height, ground);
+    check_single_rises(steep, column_start_[c], column_start_[c + 1], level2_height, ground);
   }
+  drop_silhouettes(cloud, ground);
+}
+
+// Along each ring (strongest layer), runs of returns continuous in space. Terrain seen by a
+// ring is a long continuous curve; a short run whose both ends border the sky (no return)
+// or returns behind it (farther away) is an object standing out: a tree crown, a shed or
+// a fence over ground the rings do not see, or in front of ground seen farther on.
+void ColumnProfiles::drop_silhouettes(const Cloud& cloud, std::vector<std::uint8_t>& ground) const {
+  const Index layer0_end = static_cast<Index>(
+      std::partition_point(cloud.layer.begin(), cloud.layer.end(),
+                           [](std::uint8_t l) { return l == 0; }) -
+      cloud.layer.begin());
+  const RingRuns rows = point_ring_runs(cloud, 0, layer0_end);
+  for (int ring = 0; ring < kLasers; ++ring) {
+    const Index first = rows[static_cast<Index>(ring)], last = rows[static_cast<Index>(ring) + 1];
+    Index a = first;
+    while (a < last) {
+      Index b = a;
+      while (b + 1 < last && continuous(cloud, b, b + 1)) ++b;
+      if (stands_out(cloud, first, last, a, b)) {
+        for (Index i = a; i <= b; ++i) ground[i] = 0;
+      }
+      a = b + 1;
+    }
+  }
+}
+
+bool ColumnProfiles::continuous(const Cloud& cloud, Index a, Index b) const {
+  if (cloud.column[b] - cloud.column[a] > p_.run_column_gap) return false;
+  const float gap = std::hypot(cloud.range_xy[b] - cloud.range_xy[a], cloud.z[b] - cloud.z[a]);
+  return gap <= p_.run_gap_m + p_.run_gap_per_m * cloud.range_xy[a];
+}
+
+// Run [a, b] of one ring (positions first..last): short, and both ends open to the sky or
+// to returns behind it.
+bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Index a,
+                                Index b) const {
+  const float extent = std::hypot(cloud.x[b] - cloud.x[a], cloud.y[b] - cloud.y[a]);
+  if (extent > p_.silhouette_max_m) return false;
+  auto open = [&](Index end, Index beyond, bool has_beyond) {
+    if (!has_beyond) return false;  // the frame's first or last column: unknown
+    if (std::abs(static_cast<int>(cloud.column[beyond]) - static_cast<int>(cloud.column[end])) >
+        p_.sky_columns)
+      return true;  // no return for a while: the sky
+    return cloud.range_xy[beyond] > cloud.range_xy[end] + p_.run_gap_m;
+  };
+  return open(a, a - 1, a > first) && open(b, b + 1, b + 1 < last);
 }
 
 // Counting sort by column; the cloud is in (layer, ring, column) order, so each column's
@@ -108,8 +155,9 @@ void ColumnProfiles::walk_column(const Cloud& cloud, const std::uint8_t* steep, 
     if (over < -p_.drop_m) {  // a lower surface (fields below a levee): level from here
       accept = true;
     } else {
-      const float rise = blocked ? p_.blocked_rise_m + p_.blocked_rise_per_m * advance
-                                 : p_.rise_m + p_.rise_per_m * advance;
+      const float rise = blocked           ? p_.blocked_rise_m + p_.blocked_rise_per_m * advance
+                         : profile_size_ == 1 ? p_.start_rise_m + p_.start_rise_per_m * advance
+                                              : p_.rise_m + p_.rise_per_m * advance;
       accept = std::abs(step) <= p_.max_gradient && over <= rise;
       next_gradient = std::clamp(step, gradient - p_.gradient_step, gradient + p_.gradient_step);
     }
@@ -127,28 +175,26 @@ void ColumnProfiles::walk_column(const Cloud& cloud, const std::uint8_t* steep, 
 }
 
 // A ground return raised over the level-2 surface needs a raised ground neighbour in its
-// column (the return before or after it along the profile).
-void ColumnProfiles::check_single_rises(Index begin, Index end,
+// column (the ground return before or after it along the profile; a return on a steep
+// surface taken for the foot of a wall does not count).
+void ColumnProfiles::check_single_rises(const std::uint8_t* steep, Index begin, Index end,
                                         const std::vector<float>& level2_height,
-                                        std::vector<std::uint8_t>& ground) {
+                                        std::vector<std::uint8_t>& ground) const {
   auto raised = [&](Index i, float by) {
     const float h = level2_height[i];
     return std::isfinite(h) && h > by;
   };
+  auto neighbour = [&](Index k) { return ground[items_[k]] != 0 && steep[items_[k]] == 0; };
   Index previous = end;  // previous ground return of the column (position in items_)
   for (Index k = begin; k < end; ++k) {
     const Index i = items_[k];
-    if (ground[i] == 0) continue;
+    if (!neighbour(k)) continue;
     if (raised(i, p_.single_rise_m)) {
       Index next = k + 1;
-      while (next < end && ground[items_[next]] == 0) ++next;
+      while (next < end && !neighbour(next)) ++next;
       const bool before = previous < end && raised(items_[previous], 0.5f * p_.single_rise_m);
       const bool after = next < end && raised(items_[next], 0.5f * p_.single_rise_m);
-      if (!before && !after) {
-        previous = k;  // still the profile's last ground return for the neighbour test
-        ground[i] = 0;
-        continue;
-      }
+      if (!before && !after) ground[i] = 0;
     }
     previous = k;
   }

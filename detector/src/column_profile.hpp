@@ -29,6 +29,8 @@ struct ProfileParams {
   // column only blocked_rise_m + blocked_rise_per_m x distance (no climbing onto a roof).
   float rise_m = 0.25f, rise_per_m = 0.12f;
   float blocked_rise_m = 0.25f, blocked_rise_per_m = 0.03f;
+  // ... and for the first return of a column, from the ground under the sensor.
+  float start_rise_m = 0.25f, start_rise_per_m = 0.12f;
   float drop_m = 0.5f;         // a return this far under the profile starts a lower surface
   float min_advance_m = 0.3f;  // nearer than this (horizontally) to the last ground return
   float steep_band_m = 0.06f;  // a steep return is ground only this close to the profile
@@ -37,6 +39,14 @@ struct ProfileParams {
   // ground return before or after it in its column is raised too (a bank rises over
   // several rings; a fence or a box side is one ring line).
   float single_rise_m = 0.3f;
+  // Runs along a ring: neighbours at most run_column_gap columns and run_gap_m +
+  // run_gap_per_m x range apart are continuous; a run no longer than silhouette_max_m
+  // with both ends open (no return over sky_columns columns, or the next return farther
+  // away) stands out as an object.
+  int run_column_gap = 2;
+  float run_gap_m = 0.3f, run_gap_per_m = 0.02f;
+  float silhouette_max_m = 6.f;
+  int sky_columns = 3;
 };
 
 class ColumnProfiles {
@@ -52,10 +62,14 @@ class ColumnProfiles {
   void sort_by_column(const Cloud& cloud);
   void walk_column(const Cloud& cloud, const std::uint8_t* steep, std::size_t begin,
                    std::size_t end, std::vector<std::uint8_t>& ground, std::vector<float>& height);
-  void check_single_rises(std::size_t begin, std::size_t end,
+  void check_single_rises(const std::uint8_t* steep, std::size_t begin, std::size_t end,
                           const std::vector<float>& level2_height,
-                          std::vector<std::uint8_t>& ground);
+                          std::vector<std::uint8_t>& ground) const;
 
+  void drop_silhouettes(const Cloud& cloud, std::vector<std::uint8_t>& ground) const;
+  [[nodiscard]] bool continuous(const Cloud& cloud, std::size_t a, std::size_t b) const;
+  [[nodiscard]] bool stands_out(const Cloud& cloud, std::size_t first, std::size_t last,
+                                std::size_t a, std::size_t b) const;
   void add_to_profile(float r, float z);
   [[nodiscard]] float profile_at(float r) const;
 
