@@ -111,7 +111,7 @@ void add_detector_options(CLI::App& cmd, PipelineConfig& config) {
          "its own ground profile (on; better on banks, embankments, ramps, hills, but more "
          "obstacles taken for ground), or by the cells (off)")
       ->check(CLI::IsMember({"on", "off"}))
-      ->default_str("off")
+      ->default_str("on")
       ->group(group);
 }
 

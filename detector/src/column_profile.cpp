@@ -158,7 +158,10 @@ void ColumnProfiles::walk_column(const Cloud& cloud, const std::uint8_t* steep, 
       const float rise = blocked           ? p_.blocked_rise_m + p_.blocked_rise_per_m * advance
                          : profile_size_ == 1 ? p_.start_rise_m + p_.start_rise_per_m * advance
                                               : p_.rise_m + p_.rise_per_m * advance;
-      accept = std::abs(step) <= p_.max_gradient && over <= rise;
+      // Past an obstacle the ground may have risen out of sight: a gentle slope from the
+      // last ground return is taken (a car roof is a steep step from it).
+      const bool resumes = blocked && std::abs(step - gradient) <= p_.resume_gradient_change;
+      accept = std::abs(step) <= p_.max_gradient && (over <= rise || resumes);
       next_gradient = std::clamp(step, gradient - p_.gradient_step, gradient + p_.gradient_step);
     }
     if (!accept) {

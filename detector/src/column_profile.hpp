@@ -29,6 +29,7 @@ struct ProfileParams {
   // column only blocked_rise_m + blocked_rise_per_m x distance (no climbing onto a roof).
   float rise_m = 0.25f, rise_per_m = 0.12f;
   float blocked_rise_m = 0.25f, blocked_rise_per_m = 0.03f;
+  float resume_gradient_change = 0.06f;  // ... or a return this close to the profile's gradient
   // ... and for the first return of a column, from the ground under the sensor.
   float start_rise_m = 0.25f, start_rise_per_m = 0.12f;
   float drop_m = 0.5f;         // a return this far under the profile starts a lower surface

@@ -5,7 +5,6 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 
 #include "binning.hpp"
 #include "column_profile.hpp"
@@ -271,9 +270,6 @@ class TangentMethod final : public Method {
     pp.label_up_m = label_up_;
     pp.label_down_m = label_down_;
     pp.steep_band_m = steep_up_;
-    if (const char* e = std::getenv("VLP_SR")) pp.start_rise_m = static_cast<float>(std::atof(e));
-    if (const char* e = std::getenv("VLP_SRP")) pp.start_rise_per_m = static_cast<float>(std::atof(e));
-    if (const char* e = std::getenv("VLP_SIL")) pp.silhouette_max_m = static_cast<float>(std::atof(e));
     profiles_.label(cloud, steep_.data(), height_, pp, profile_ground_, profile_height_);
     std::copy(profile_ground_.begin(), profile_ground_.end(), ground_.begin());
     std::copy(profile_height_.begin(), profile_height_.end(), height_.begin());

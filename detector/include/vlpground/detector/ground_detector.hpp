@@ -97,7 +97,7 @@ struct DetectorConfig {
   // the range image is walked outwards from the ground under the vehicle and labelled by
   // its own ground profile. Far better F1 on banks, embankments, ramps and hills; more
   // obstacles taken for ground (one ring line on a fence or a shed), so off by default.
-  bool column_profiles = false;
+  bool column_profiles = true;
 
   /// Throws std::invalid_argument naming the bad field and its valid range.
   void validate() const;
