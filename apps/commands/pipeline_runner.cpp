@@ -76,7 +76,7 @@ int run_pipeline(RunRequest request) {
   std::unique_ptr<Pipeline> pipeline;
   try {
     PipelineConfig config = request.config;
-    if (!request.partial) config.max_frames = 0;  // counted below: full rotations only
+    config.max_frames = RotationLimit::pipeline_max_frames(config.max_frames, request.partial);
     pipeline = std::make_unique<Pipeline>(config);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s%s\n", prefix.c_str(), e.what());
@@ -88,34 +88,31 @@ int run_pipeline(RunRequest request) {
   const bool frame_lines = !terminal && !request.json && console == stdout;
   SinkErrors sink_errors;
   ActiveSpan span;
-  std::atomic<std::uint64_t> warnings{0};
-  std::mutex gps_mutex;
-  std::string gps;
+  std::mutex capture_mutex;  // frames (detection thread), telemetry and warnings (acquisition)
+  CaptureSummary capture;
 
-  // --frames N counts full rotations (FrameMeta::complete) unless --partial.
-  const std::uint64_t wanted_rotations = request.partial ? 0 : request.config.max_frames;
-  std::uint64_t rotations = 0;  // detection thread only
+  RotationLimit limit(request.config.max_frames, request.partial);  // detection thread only
   pipeline->on_frame([&](const LabelledFrame& f) {
-    if (wanted_rotations != 0 && rotations >= wanted_rotations) return;  // stopping
-    if (f.frame.meta.complete && ++rotations == wanted_rotations) pipeline->stop();
+    if (!limit.admit(f.frame.meta, [&] { pipeline->stop(); })) return;  // stopping
     sinks->write(f, sink_errors, [&] { pipeline->stop(); });
     if (frame_lines) print_frame_line(stdout, f);
     span.add(f.frame.meta);
+    std::lock_guard lock(capture_mutex);
+    capture.add_frame(f.frame.meta);
   });
   pipeline->on_telemetry([&](const PositionPacket& p) {
     sinks->on_position(p);
-    char line[96];
-    std::snprintf(line, sizeof line, "PPS %s, GPRMC %s", pps_name(p.pps),
-                  p.gprmc.parsed ? (p.gprmc.valid ? "valid" : "void") : "absent");
-    std::lock_guard lock(gps_mutex);
-    gps = line;
+    std::lock_guard lock(capture_mutex);
+    capture.add_position(p);
   });
   pipeline->on_diagnostics([&](const Diagnostic& d) {
     switch (d.kind) {
-      case DiagnosticKind::warning:
-        ++warnings;
+      case DiagnosticKind::warning: {
         spdlog::warn("{}", d.message);
+        std::lock_guard lock(capture_mutex);
+        capture.add_warning(d.message);
         break;
+      }
       case DiagnosticKind::callback_exception:
       case DiagnosticKind::source_error:
         std::fprintf(stderr, "%s%s\n", prefix.c_str(), d.message.c_str());
@@ -158,8 +155,7 @@ int run_pipeline(RunRequest request) {
 
   const PipelineStats stats = pipeline->stats();
   SummaryContext context{request.command, describe_input(request),
-                         std::string(to_string(request.config.detector.method)),
-                         gps, warnings.load()};
+                         std::string(to_string(request.config.detector.method)), capture};
   if (stats.live) context.active_s = span.seconds();
   if (request.json) {
     std::printf("%s\n", summary_json(stats, context).c_str());

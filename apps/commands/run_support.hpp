@@ -76,6 +76,29 @@ class StopOnSignal {
   std::atomic<bool> interrupted_{false};
 };
 
+// `--frames N` of replay and live (one sensor or several): N full rotations
+// (FrameMeta::complete) unless --partial, when every frame counts. The pipeline's own
+// max_frames counts every frame, so it gets N only with --partial; otherwise this counts.
+class RotationLimit {
+ public:
+  RotationLimit(std::uint64_t max_frames, bool partial) : wanted_(partial ? 0 : max_frames) {}
+  /// What to put in PipelineConfig::max_frames.
+  static std::uint64_t pipeline_max_frames(std::uint64_t max_frames, bool partial) {
+    return partial ? max_frames : 0;
+  }
+  /// On the frame's detection thread: false for a frame that comes after the N-th rotation
+  /// (not output); `stop` is called with the N-th.
+  bool admit(const FrameMeta& meta, const std::function<void()>& stop) {
+    if (wanted_ != 0 && rotations_ >= wanted_) return false;
+    if (meta.complete && ++rotations_ == wanted_) stop();
+    return true;
+  }
+
+ private:
+  std::uint64_t wanted_ = 0;  // 0: no limit here
+  std::uint64_t rotations_ = 0;
+};
+
 // The first error of any sink; the run stops on it.
 class SinkErrors {
  public:

@@ -365,3 +365,82 @@ TEST_CASE("15.10 --frames N counts full rotations unless --partial") {
   CHECK(partial["delivered"] == 2);
   CHECK(partial["incomplete"] == 1);
 }
+
+namespace {
+
+// JSON's own types; signed and unsigned integers are one.
+std::string json_kind(const nlohmann::json& v) {
+  return v.is_number_integer() ? "integer" : v.type_name();
+}
+
+// Fields present in both documents (recursively) whose types differ, as "path: a vs b".
+void type_mismatches(const nlohmann::json& a, const nlohmann::json& b, const std::string& path,
+                     std::vector<std::string>& out, int& shared) {
+  for (auto it = a.begin(); it != a.end(); ++it) {
+    if (!b.contains(it.key())) continue;
+    const auto& other = b[it.key()];
+    const std::string where = path + "/" + it.key();
+    ++shared;
+    if (json_kind(*it) != json_kind(other)) {
+      out.push_back(where + ": " + json_kind(*it) + " vs " + json_kind(other));
+    } else if (it->is_object()) {
+      type_mismatches(*it, other, where, out, shared);
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("15.9 info --json and replay --json: one type per field, the same measured facts") {
+  std::vector<std::filesystem::path> captures{test::project_pcap("urban_demo.pcap"),
+                                              test::project_pcap("hills_demo.pcap"),
+                                              test::project_pcap("slope_dual.pcap")};
+  const auto dir = test::temp_dir("cli_json_shapes");
+  const auto sim = run_cli({kCli, "sim", "flat", "--frames", "2", "--model", "hires", "--mode",
+                            "last", "--out", (dir / "flat_hires_last").string()});
+  REQUIRE(sim.code == 0);
+  captures.push_back(dir / "flat_hires_last.pcap");
+  const std::size_t required = captures.size();  // these must replay
+  if (const auto real = test::shared_file("real", "README.md")) {
+    for (const auto& e : std::filesystem::directory_iterator(real->parent_path())) {
+      if (e.path().extension() == ".pcap") captures.push_back(e.path());
+    }
+  } else {
+    WARN("real captures skipped: ../shared/data/real not found (set VLPGROUND_SHARED_DIR)");
+  }
+  int compared = 0;
+  for (std::size_t k = 0; k < captures.size(); ++k) {
+    const std::string pcap = captures[k].string();
+    INFO(pcap);
+    const auto info = run_cli({kCli, "info", pcap, "--json"});
+    const auto replay = run_cli({kCli, "replay", pcap, "--json"});
+    if (k >= required && (info.code != 0 || replay.code != 0)) continue;  // not a VLP-16 capture
+    REQUIRE(info.code == 0);
+    REQUIRE(replay.code == 0);
+    const auto i = nlohmann::json::parse(info.out);
+    const auto r = nlohmann::json::parse(replay.out);
+    std::vector<std::string> mismatches;
+    int shared = 0;
+    type_mismatches(i, r, "", mismatches, shared);
+    CAPTURE(mismatches);
+    CHECK(mismatches.empty());
+    CHECK(shared >= 20);  // model, rpm, gps, packets..., not a handful
+    // Measured facts of the capture: the same values.
+    for (const char* key : {"model", "return_mode", "time_source", "calibration", "gps"}) {
+      INFO(key);
+      CHECK(i[key] == r[key]);
+    }
+    CHECK(i["model"].is_string());
+    CHECK(i["gps"].is_object());
+    for (const char* key : {"delivered", "complete", "incomplete"}) {
+      CHECK(i["frames"][key] == r["frames"][key]);
+    }
+    for (const char* key : {"data", "position", "lost"}) {
+      CHECK(i["packets"][key] == r["packets"][key]);
+    }
+    CHECK(i["rpm"].get<double>() == Approx(r["rpm"].get<double>()));
+    CHECK(i["duration_s"].get<double>() == Approx(r["duration_s"].get<double>()));
+    ++compared;
+  }
+  CHECK(compared >= static_cast<int>(required));
+}
