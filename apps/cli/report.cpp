@@ -107,6 +107,12 @@ void print_summary_table(std::FILE* to, const PipelineStats& s, const SummaryCon
                u(as.packets_lost),
                u(dec.wrong_size + dec.bad_flag + dec.bad_azimuth + dec.unknown_mode));
   if (s.live) std::fprintf(to, "  %-12s %llu\n", "kernel drops", u(src.kernel_drops));
+  if (src.loop_wraps > 0) {
+    std::fprintf(to,
+                 "  %-12s %llu wrap%s, %llu packets skipped at the start of a pass to continue "
+                 "the rotation\n",
+                 "loop", u(src.loop_wraps), src.loop_wraps == 1 ? "" : "s", u(src.skipped_loop));
+  }
   std::fprintf(to, "  %-12s %llu, %.1f%% ground\n", "returns", u(s.returns),
                100.0 * share(s.ground_returns, s.returns));
   std::fprintf(to, "  %-12s %s\n", "detect", describe_latency(s.detect).c_str());
@@ -166,6 +172,9 @@ std::string summary_json(const PipelineStats& s, const SummaryContext& c) {
       {"elapsed_s", s.elapsed_s},
       {"active_s", span_s(s, c)},
       {"frames_per_s", frames_per_s(s, c)},
+      {"loop",
+       {{"wraps", s.capture.source.loop_wraps},
+        {"skipped_packets", s.capture.source.skipped_loop}}},
   };
   c.capture.add_json_fields(j);
   return j.dump(2);

@@ -5,9 +5,14 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "child_process.hpp"
@@ -443,4 +448,113 @@ TEST_CASE("15.9 info --json and replay --json: one type per field, the same meas
     ++compared;
   }
   CHECK(compared >= static_cast<int>(required));
+}
+
+namespace {
+
+// One frame of a `--csv` file: returns, first firing time, whole degrees of azimuth covered.
+struct CsvFrame {
+  std::uint64_t returns = 0;
+  double first_us = 1e300;
+  std::set<int> degrees;
+};
+
+std::map<int, CsvFrame> csv_frames(const std::filesystem::path& csv) {
+  std::map<int, CsvFrame> frames;
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  const auto header = test::split(line);
+  const auto column = [&](const char* name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  const std::size_t frame = column("frame"), time = column("timestamp_us"),
+                    azimuth = column("azimuth_deg");
+  REQUIRE(azimuth < header.size());
+  while (std::getline(in, line)) {
+    const auto f = test::split(line);
+    CsvFrame& out = frames[std::stoi(f[frame])];
+    ++out.returns;
+    out.first_us = std::min(out.first_us, std::stod(f[time]));
+    out.degrees.insert(static_cast<int>(std::stod(f[azimuth])));
+  }
+  return frames;
+}
+
+// "frame 3: 1808 columns, 16902 returns, ..." lines: columns and whether partial.
+std::vector<std::pair<int, bool>> frame_line_columns(const std::string& out) {
+  std::vector<std::pair<int, bool>> frames;
+  std::istringstream lines(out);
+  for (std::string l; std::getline(lines, l);) {
+    int sequence = 0, columns = 0;
+    if (std::sscanf(l.c_str(), "frame %d: %d columns", &sequence, &columns) != 2) continue;
+    frames.emplace_back(columns, l.find("(partial rotation)") != std::string::npos);
+  }
+  return frames;
+}
+
+double median_of(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+TEST_CASE("15.10 --loop joins the end of the file to its start: full rotations across the wraps") {
+  SECTION("single and dual return: after the first frame, every frame is one whole turn") {
+    for (const char* name : {"urban_demo.pcap", "slope_dual.pcap"}) {
+      INFO(name);
+      const auto csv = test::temp_dir("cli_loop") / "loop.csv";
+      // About three passes of a file with three full rotations.
+      const auto r = run_cli({kCli, "replay", test::project_pcap(name).string(), "--loop",
+                              "--frames", "12", "--csv", csv.string(), "--json"});
+      INFO(r.err);
+      REQUIRE(r.code == 0);
+      const auto j = nlohmann::json::parse(r.out);
+      CHECK(j["loop"]["wraps"].get<int>() >= 3);
+      CHECK(j["loop"]["skipped_packets"].get<int>() > 0);
+      CHECK(j["frames"]["incomplete"] == 1);  // the first frame only: the file starts mid-turn
+      CHECK(j["packets"]["lost"] == 0);
+      const auto frames = csv_frames(csv);
+      REQUIRE(frames.size() == 13);
+      std::vector<double> returns;
+      for (const auto& [k, f] : frames) {
+        if (k > 0) returns.push_back(static_cast<double>(f.returns));
+      }
+      const double typical = median_of(returns);
+      double previous_us = 0;
+      for (const auto& [k, f] : frames) {
+        INFO("frame " << k);
+        if (k > 0) {
+          CHECK(static_cast<double>(f.returns) == Approx(typical).epsilon(0.02));
+          CHECK(f.degrees.size() >= 358);
+        }
+        if (k > 1) CHECK(f.first_us - previous_us == Approx(100'000).epsilon(0.01));  // 600 rpm
+        previous_us = f.first_us;
+      }
+    }
+  }
+  SECTION("a real capture at 1200 rpm without GPS, over two wraps") {
+    const auto pcap = test::shared_file("real", "vlp16_1200rpm_productbyte21.pcap");
+    VLPGROUND_REQUIRE_SHARED(pcap);
+    const auto r = run_cli({kCli, "replay", pcap->string(), "--loop", "--frames", "110"});
+    REQUIRE(r.code == 0);
+    const auto frames = frame_line_columns(r.out);
+    REQUIRE(frames.size() == 111);
+    CHECK(frames[0].second);  // the partial first frame
+    std::vector<double> columns;
+    for (std::size_t k = 1; k < frames.size(); ++k) columns.push_back(frames[k].first);
+    const double typical = median_of(columns);
+    for (std::size_t k = 1; k < frames.size(); ++k) {
+      INFO("frame " << k);
+      CHECK_FALSE(frames[k].second);
+      CHECK(frames[k].first >= 0.95 * typical);
+      CHECK(frames[k].first <= 1.01 * typical);
+    }
+    int wraps = 0;
+    const auto at = r.out.find("  loop ");
+    REQUIRE(at != std::string::npos);
+    std::sscanf(r.out.c_str() + at, "  loop %d wraps", &wraps);
+    CHECK(wraps >= 2);
+  }
 }
