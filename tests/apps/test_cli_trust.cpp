@@ -18,7 +18,7 @@
 #include "child_process.hpp"
 #include "cli_helpers.hpp"
 #include "test_data.hpp"
-#include "vlpground/driver/packet_source.hpp"
+#include "udp_sender.hpp"
 
 using namespace vlpground;
 using test::one_line;
@@ -191,28 +191,6 @@ TEST_CASE("15.2 eval refuses labels that do not belong to the capture") {
   CHECK(ok.code == 0);
 }
 
-namespace {
-
-// Sends every packet of `pcap` to 127.0.0.1 as fast as the socket takes them.
-void send_capture(const std::filesystem::path& pcap, std::uint16_t port,
-                  std::uint16_t position_port) {
-  PcapSourceConfig c;
-  c.path = pcap.string();
-  auto source = open_pcap_source(c);
-  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in to{};
-  to.sin_family = AF_INET;
-  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  PacketView v;
-  while (source->next(v, 5000) == SourceStatus::packet) {
-    to.sin_port = htons(v.kind == PacketKind::data ? port : position_port);
-    sendto(fd, v.bytes.data(), v.bytes.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
-  }
-  close(fd);
-}
-
-}  // namespace
-
 TEST_CASE("15.5 live summaries claim only what was measured") {
   SECTION("nothing received: an error unless --allow-empty, and no verdict") {
     const std::string port = std::to_string(test::free_udp_port());
@@ -238,7 +216,7 @@ TEST_CASE("15.5 live summaries claim only what was measured") {
                               "--position-port", std::to_string(position_port), "--queue", "16",
                               "--duration", "1.5", "--json"});
     REQUIRE(child.wait_for_stderr("listening", 20'000));
-    send_capture(*pcap, port, position_port);
+    test::send_capture(pcap->string(), port, position_port, 0.0);  // as fast as it goes
     REQUIRE(child.wait_exit(30'000) == 0);
     INFO(child.out);
     const auto j = nlohmann::json::parse(child.out);
