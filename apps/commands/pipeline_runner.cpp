@@ -92,7 +92,16 @@ int run_pipeline(RunRequest request) {
   CaptureSummary capture;
 
   RotationLimit limit(request.config.max_frames, request.partial);  // detection thread only
+  // --loop --frames N of a capture that never yields a full rotation (shorter than one, or
+  // with gaps in every one) would run forever: the run ends with an error instead.
+  const auto* pcap = std::get_if<PcapSourceConfig>(&request.config.source);
+  LoopWithoutRotation endless(pcap != nullptr && pcap->loop && limit.counts_rotations(),
+                              request.config.queue_frames);
   pipeline->on_frame([&](const LabelledFrame& f) {
+    if (endless.check(f.frame.meta, [&] { return pipeline->stats().capture.source.loop_wraps; })) {
+      pipeline->stop();
+      return;
+    }
     if (!limit.admit(f.frame.meta, [&] { pipeline->stop(); })) return;  // stopping
     sinks->write(f, sink_errors, [&] { pipeline->stop(); });
     if (frame_lines) print_frame_line(stdout, f);
@@ -163,6 +172,15 @@ int run_pipeline(RunRequest request) {
     print_summary_table(console, stats, context);
   }
   std::fflush(stdout);
+  if (endless.ended()) {
+    std::fprintf(stderr,
+                 "%s--frames %llu counts full rotations, and %llu passes of the looped capture "
+                 "gave none (shorter than a rotation, or gaps in every one); add --partial to "
+                 "count every frame\n",
+                 prefix.c_str(), static_cast<unsigned long long>(request.config.max_frames),
+                 static_cast<unsigned long long>(stats.capture.source.loop_wraps));
+    return kExitFailure;
+  }
   if (const std::string error = sink_errors.first(); !error.empty()) {
     std::fprintf(stderr, "%s%s\n", prefix.c_str(), error.c_str());
     return kExitFailure;

@@ -512,6 +512,16 @@ TEST_CASE("15.10 --loop joins the end of the file to its start: full rotations a
       }
     }
   }
+  SECTION("a capture that never gives a full rotation: --frames ends with an error, not never") {
+    const auto pcap = test::shared_file("real", "vlp16_short.pcap");  // gaps, < one rotation
+    VLPGROUND_REQUIRE_SHARED(pcap);
+    const auto r = run_cli({kCli, "replay", pcap->string(), "--loop", "--frames", "5"});
+    CHECK(r.code == 1);
+    CHECK(r.err.find("--frames 5 counts full rotations") != std::string::npos);
+    CHECK(r.err.find("add --partial") != std::string::npos);
+    CHECK(run_cli({kCli, "replay", pcap->string(), "--loop", "--frames", "5", "--partial"}).code ==
+          0);
+  }
   SECTION("a real capture at 1200 rpm without GPS, over two wraps") {
     const auto pcap = test::shared_file("real", "vlp16_1200rpm_productbyte21.pcap");
     VLPGROUND_REQUIRE_SHARED(pcap);
