@@ -154,8 +154,8 @@ TEST_CASE("15.8 errors in the user's words, exit 2 for usage errors, 1 for runti
     socklen_t len = sizeof a;
     getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
     const std::string busy = std::to_string(ntohs(a.sin_port));
-    const std::string free_port = std::to_string(test::free_udp_port());
-    expect({kCli, "live", "--bind", "127.0.0.1", "--port", free_port, "--position-port", busy}, 1,
+    const std::string open_port = std::to_string(test::free_port());
+    expect({kCli, "live", "--bind", "127.0.0.1", "--port", open_port, "--position-port", busy}, 1,
            "position port " + busy + " on 127.0.0.1 is in use; use --position-port");
     expect({kCli, "live", "--bind", "127.0.0.1", "--port", busy, "--position-port", "0"}, 1,
            "data port " + busy + " on 127.0.0.1 is in use");
@@ -193,7 +193,7 @@ TEST_CASE("15.2 eval refuses labels that do not belong to the capture") {
 
 TEST_CASE("15.5 live summaries claim only what was measured") {
   SECTION("nothing received: an error unless --allow-empty, and no verdict") {
-    const std::string port = std::to_string(test::free_udp_port());
+    const std::string port = std::to_string(test::free_port());
     const std::vector<std::string> args{kCli,         "live", "--bind",          "127.0.0.1",
                                         "--port",     port,   "--position-port", "0",
                                         "--duration", "0.2"};
@@ -211,7 +211,7 @@ TEST_CASE("15.5 live summaries claim only what was measured") {
       "first packet") {
     const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
     VLPGROUND_REQUIRE_SHARED(pcap);
-    const std::uint16_t port = test::free_udp_port(), position_port = test::free_udp_port();
+    const auto [port, position_port] = test::free_port_pair();
     test::ChildProcess child({kCli, "live", "--bind", "127.0.0.1", "--port", std::to_string(port),
                               "--position-port", std::to_string(position_port), "--queue", "16",
                               "--duration", "1.5", "--json"});
