@@ -107,6 +107,12 @@ void print_summary_table(std::FILE* to, const PipelineStats& s, const SummaryCon
                u(as.packets_lost),
                u(dec.wrong_size + dec.bad_flag + dec.bad_azimuth + dec.unknown_mode));
   if (s.live) std::fprintf(to, "  %-12s %llu\n", "kernel drops", u(src.kernel_drops));
+  if (src.loop_wraps > 0) {
+    std::fprintf(to,
+                 "  %-12s %llu wrap%s, %llu packets skipped at the start of a pass to continue "
+                 "the rotation\n",
+                 "loop", u(src.loop_wraps), src.loop_wraps == 1 ? "" : "s", u(src.skipped_loop));
+  }
   std::fprintf(to, "  %-12s %llu, %.1f%% ground\n", "returns", u(s.returns),
                100.0 * share(s.ground_returns, s.returns));
   std::fprintf(to, "  %-12s %s\n", "detect", describe_latency(s.detect).c_str());
@@ -125,15 +131,16 @@ void print_summary_table(std::FILE* to, const PipelineStats& s, const SummaryCon
     std::fprintf(to, "  %-12s %.1f frames/s over %.2f s%s\n", "throughput", frames_per_s(s, c),
                  span_s(s, c), c.active_s >= 0 ? " from the first packet" : "");
   }
-  if (!c.gps.empty()) std::fprintf(to, "  %-12s %s\n", "gps", c.gps.c_str());
-  if (c.warnings > 0) std::fprintf(to, "  %-12s %llu (see log)\n", "warnings", u(c.warnings));
+  if (c.capture.has_position()) {
+    std::fprintf(to, "  %-12s %s\n", "gps", c.capture.gps_line().c_str());
+  }
+  if (!c.capture.warnings().empty()) {
+    std::fprintf(to, "  %-12s %zu (see log)\n", "warnings", c.capture.warnings().size());
+  }
   std::fflush(to);
 }
 
 std::string summary_json(const PipelineStats& s, const SummaryContext& c) {
-  const auto& src = s.capture.source;
-  const auto& dec = s.capture.decoder;
-  const auto& as = s.capture.assembler;
   const auto latency = [](const LatencyStats& l) {
     // Percentiles are null without enough samples (kMinSamplesP50, kMinSamplesP99).
     const auto value = [](double v, bool known) {
@@ -145,30 +152,17 @@ std::string summary_json(const PipelineStats& s, const SummaryContext& c) {
                           {"max_ms", value(l.max_ms, l.samples > 0)},
                           {"mean_ms", value(l.mean_ms, l.samples > 0)}};
   };
+  nlohmann::json frames = frames_json(s.frames_delivered, s.incomplete_frames);
+  frames["assembled"] = s.frames_assembled;
+  frames["dropped"] = s.frames_dropped;
+  frames["callback_exceptions"] = s.callback_exceptions;
   nlohmann::json j = {
       {"command", c.command},
       {"input", c.input},
       {"method", c.method},
       {"live", s.live},
-      {"frames",
-       {{"delivered", s.frames_delivered},
-        {"assembled", s.frames_assembled},
-        {"incomplete", s.incomplete_frames},
-        {"dropped", s.frames_dropped},
-        {"callback_exceptions", s.callback_exceptions}}},
-      {"packets",
-       {{"records", src.records},
-        {"data", src.data_packets},
-        {"position", src.position_packets},
-        {"skipped", src.skipped()},
-        {"truncated", src.truncated},
-        {"kernel_drops", src.kernel_drops},
-        {"decoded", dec.decoded},
-        {"malformed", dec.wrong_size + dec.bad_flag + dec.bad_azimuth + dec.unknown_mode},
-        {"product_mismatch", dec.product_mismatch},
-        {"lost", as.packets_lost},
-        {"duplicate", as.duplicate_packets},
-        {"reordered", as.reordered_packets}}},
+      {"frames", std::move(frames)},
+      {"packets", packets_json(s.capture)},
       {"returns", s.returns},
       {"ground_returns", s.ground_returns},
       {"ground_share", share(s.ground_returns, s.returns)},
@@ -178,9 +172,11 @@ std::string summary_json(const PipelineStats& s, const SummaryContext& c) {
       {"elapsed_s", s.elapsed_s},
       {"active_s", span_s(s, c)},
       {"frames_per_s", frames_per_s(s, c)},
-      {"warnings", c.warnings},
+      {"loop",
+       {{"wraps", s.capture.source.loop_wraps},
+        {"skipped_packets", s.capture.source.skipped_loop}}},
   };
-  if (!c.gps.empty()) j["gps"] = c.gps;
+  c.capture.add_json_fields(j);
   return j.dump(2);
 }
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 
+#include "cli/capture_summary.hpp"
 #include "vlpground/pipeline.hpp"
 
 namespace vlpground::cli {
@@ -20,8 +21,7 @@ struct SummaryContext {
   std::string command;  // "replay" | "live"
   std::string input;    // source description
   std::string method;
-  std::string gps;  // last telemetry state, empty when none
-  std::uint64_t warnings = 0;
+  CaptureSummary capture;  // model, rpm, GPS/PPS, warnings... (the fields `info --json` shares)
   // Seconds from the first packet to the last delivered frame (live); < 0: use elapsed_s.
   double active_s = -1.0;
 };

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
 
 #include "cli/options.hpp"
@@ -41,6 +42,8 @@ MultiPipelineConfig multi_config(const RunRequest& request, const std::vector<st
   config.multicast_group = udp.multicast_group;
   config.reuse_address = udp.reuse_address;
   config.pipeline = request.config;
+  config.pipeline.max_frames =
+      RotationLimit::pipeline_max_frames(request.config.max_frames, request.partial);
   try {
     config.validate();
   } catch (const std::invalid_argument& e) {
@@ -85,19 +88,31 @@ int run_multi_pipeline(RunRequest request, const std::vector<std::string>& specs
   const bool terminal = isatty(STDOUT_FILENO) != 0 && !request.json;
   const bool frame_lines = !request.json;
   SinkErrors sink_errors;
-  std::atomic<std::uint64_t> warnings{0};
+  // Per sensor: --frames counts each sensor's rotations; what it says about its capture.
+  std::vector<RotationLimit> limits(config.sensors.size(),
+                                    RotationLimit(request.config.max_frames, request.partial));
+  std::vector<CaptureSummary> captures(config.sensors.size());
+  std::mutex capture_mutex;
   // Each sensor's frames arrive on its own detection thread, so each touches only its sinks.
   multi->on_frame([&](const LabelledFrame& f) {
-    sinks[f.sensor_index]->write(f, sink_errors, [&] { multi->stop(); });
+    const std::size_t i = f.sensor_index;
+    if (!limits[i].admit(f.frame.meta, [&] { multi->sensor(i).stop(); })) return;
+    sinks[i]->write(f, sink_errors, [&] { multi->stop(); });
     if (frame_lines) print_frame_line(stdout, f);
+    std::lock_guard lock(capture_mutex);
+    captures[i].add_frame(f.frame.meta);
   });
-  multi->on_telemetry(
-      [&](std::size_t sensor, const PositionPacket& p) { sinks[sensor]->on_position(p); });
+  multi->on_telemetry([&](std::size_t sensor, const PositionPacket& p) {
+    sinks[sensor]->on_position(p);
+    std::lock_guard lock(capture_mutex);
+    captures[sensor].add_position(p);
+  });
   multi->on_diagnostics([&](std::size_t sensor, const Diagnostic& d) {
     const std::string& name = config.sensors[sensor].name;
     if (d.kind == DiagnosticKind::warning) {
-      ++warnings;
       spdlog::warn("{}: {}", name, d.message);
+      std::lock_guard lock(capture_mutex);
+      captures[sensor].add_warning(d.message);
     } else if (d.kind == DiagnosticKind::callback_exception ||
                d.kind == DiagnosticKind::source_error) {
       std::fprintf(stderr, "%s%s: %s\n", prefix.c_str(), name.c_str(), d.message.c_str());
@@ -140,7 +155,8 @@ int run_multi_pipeline(RunRequest request, const std::vector<std::string>& specs
     for (std::size_t i = 0; i < stats.sensors.size(); ++i) {
       const SensorStats& s = stats.sensors[i];
       const SummaryContext context{request.command, describe_sensor(config.sensors[i]),
-                                   std::string(to_string(config.pipeline.detector.method)), "", warnings.load()};
+                                   std::string(to_string(config.pipeline.detector.method)),
+                                   captures[i]};
       nlohmann::json sensor = nlohmann::json::parse(summary_json(s.pipeline, context));
       sensor["name"] = s.name;
       sensor["packets"]["routed"] = router.sensors[i].data_packets;
@@ -154,7 +170,8 @@ int run_multi_pipeline(RunRequest request, const std::vector<std::string>& specs
     for (std::size_t i = 0; i < stats.sensors.size(); ++i) {
       const SummaryContext context{request.command + ", sensor " + stats.sensors[i].name,
                                    describe_sensor(config.sensors[i]),
-                                   std::string(to_string(config.pipeline.detector.method)), "", warnings.load()};
+                                   std::string(to_string(config.pipeline.detector.method)),
+                                   captures[i]};
       print_summary_table(stdout, stats.sensors[i].pipeline, context);
     }
     std::printf("router: %llu datagrams, %llu from unknown addresses, %llu dropped by the kernel\n",

@@ -76,7 +76,7 @@ int run_pipeline(RunRequest request) {
   std::unique_ptr<Pipeline> pipeline;
   try {
     PipelineConfig config = request.config;
-    if (!request.partial) config.max_frames = 0;  // counted below: full rotations only
+    config.max_frames = RotationLimit::pipeline_max_frames(config.max_frames, request.partial);
     pipeline = std::make_unique<Pipeline>(config);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s%s\n", prefix.c_str(), e.what());
@@ -88,34 +88,40 @@ int run_pipeline(RunRequest request) {
   const bool frame_lines = !terminal && !request.json && console == stdout;
   SinkErrors sink_errors;
   ActiveSpan span;
-  std::atomic<std::uint64_t> warnings{0};
-  std::mutex gps_mutex;
-  std::string gps;
+  std::mutex capture_mutex;  // frames (detection thread), telemetry and warnings (acquisition)
+  CaptureSummary capture;
 
-  // --frames N counts full rotations (FrameMeta::complete) unless --partial.
-  const std::uint64_t wanted_rotations = request.partial ? 0 : request.config.max_frames;
-  std::uint64_t rotations = 0;  // detection thread only
+  RotationLimit limit(request.config.max_frames, request.partial);  // detection thread only
+  // --loop --frames N of a capture that never yields a full rotation (shorter than one, or
+  // with gaps in every one) would run forever: the run ends with an error instead.
+  const auto* pcap = std::get_if<PcapSourceConfig>(&request.config.source);
+  LoopWithoutRotation endless(pcap != nullptr && pcap->loop && limit.counts_rotations(),
+                              request.config.queue_frames);
   pipeline->on_frame([&](const LabelledFrame& f) {
-    if (wanted_rotations != 0 && rotations >= wanted_rotations) return;  // stopping
-    if (f.frame.meta.complete && ++rotations == wanted_rotations) pipeline->stop();
+    if (endless.check(f.frame.meta, [&] { return pipeline->stats().capture.source.loop_wraps; })) {
+      pipeline->stop();
+      return;
+    }
+    if (!limit.admit(f.frame.meta, [&] { pipeline->stop(); })) return;  // stopping
     sinks->write(f, sink_errors, [&] { pipeline->stop(); });
     if (frame_lines) print_frame_line(stdout, f);
     span.add(f.frame.meta);
+    std::lock_guard lock(capture_mutex);
+    capture.add_frame(f.frame.meta);
   });
   pipeline->on_telemetry([&](const PositionPacket& p) {
     sinks->on_position(p);
-    char line[96];
-    std::snprintf(line, sizeof line, "PPS %s, GPRMC %s", pps_name(p.pps),
-                  p.gprmc.parsed ? (p.gprmc.valid ? "valid" : "void") : "absent");
-    std::lock_guard lock(gps_mutex);
-    gps = line;
+    std::lock_guard lock(capture_mutex);
+    capture.add_position(p);
   });
   pipeline->on_diagnostics([&](const Diagnostic& d) {
     switch (d.kind) {
-      case DiagnosticKind::warning:
-        ++warnings;
+      case DiagnosticKind::warning: {
         spdlog::warn("{}", d.message);
+        std::lock_guard lock(capture_mutex);
+        capture.add_warning(d.message);
         break;
+      }
       case DiagnosticKind::callback_exception:
       case DiagnosticKind::source_error:
         std::fprintf(stderr, "%s%s\n", prefix.c_str(), d.message.c_str());
@@ -158,8 +164,7 @@ int run_pipeline(RunRequest request) {
 
   const PipelineStats stats = pipeline->stats();
   SummaryContext context{request.command, describe_input(request),
-                         std::string(to_string(request.config.detector.method)),
-                         gps, warnings.load()};
+                         std::string(to_string(request.config.detector.method)), capture};
   if (stats.live) context.active_s = span.seconds();
   if (request.json) {
     std::printf("%s\n", summary_json(stats, context).c_str());
@@ -167,6 +172,15 @@ int run_pipeline(RunRequest request) {
     print_summary_table(console, stats, context);
   }
   std::fflush(stdout);
+  if (endless.ended()) {
+    std::fprintf(stderr,
+                 "%s--frames %llu counts full rotations, and %llu passes of the looped capture "
+                 "gave none (shorter than a rotation, or gaps in every one); add --partial to "
+                 "count every frame\n",
+                 prefix.c_str(), static_cast<unsigned long long>(request.config.max_frames),
+                 static_cast<unsigned long long>(stats.capture.source.loop_wraps));
+    return kExitFailure;
+  }
   if (const std::string error = sink_errors.first(); !error.empty()) {
     std::fprintf(stderr, "%s%s\n", prefix.c_str(), error.c_str());
     return kExitFailure;

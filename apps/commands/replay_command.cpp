@@ -20,7 +20,10 @@ class ReplayCommand : public Command {
     cmd->add_option("--rate", pcap.rate, "replay speed: 0 = as fast as possible, 1 = real time")
         ->check(CLI::Range(0.0, 1000.0));
     cmd->add_flag("--loop", pcap.loop,
-                  "replay the file again and again (until Ctrl-C or --frames)");
+                  "replay the file again and again (until Ctrl-C or --frames), joined as one "
+                  "continuous recording: each pass starts where the previous one's rotation "
+                  "ends (the packets before are skipped, counted), so every frame stays a full "
+                  "rotation");
     cmd->add_option("--port", pcap.data_port, "UDP data port in the capture")
         ->check(CLI::Range(1, 65535));
     cmd->add_option("--position-port", pcap.position_port, "UDP position port in the capture")

@@ -76,6 +76,65 @@ class StopOnSignal {
   std::atomic<bool> interrupted_{false};
 };
 
+// `--frames N` of replay and live (one sensor or several): N full rotations
+// (FrameMeta::complete) unless --partial, when every frame counts. The pipeline's own
+// max_frames counts every frame, so it gets N only with --partial; otherwise this counts.
+class RotationLimit {
+ public:
+  RotationLimit(std::uint64_t max_frames, bool partial) : wanted_(partial ? 0 : max_frames) {}
+  /// What to put in PipelineConfig::max_frames.
+  static std::uint64_t pipeline_max_frames(std::uint64_t max_frames, bool partial) {
+    return partial ? max_frames : 0;
+  }
+  /// On the frame's detection thread: false for a frame that comes after the N-th rotation
+  /// (not output); `stop` is called with the N-th.
+  bool admit(const FrameMeta& meta, const std::function<void()>& stop) {
+    if (wanted_ != 0 && rotations_ >= wanted_) return false;
+    if (meta.complete && ++rotations_ == wanted_) stop();
+    return true;
+  }
+  [[nodiscard]] bool counts_rotations() const { return wanted_ != 0; }
+
+ private:
+  std::uint64_t wanted_ = 0;  // 0: no limit here
+  std::uint64_t rotations_ = 0;
+};
+
+// A looped replay whose --frames counts full rotations ends when the file gives none: when,
+// at an incomplete frame, the reader has wrapped `queue + 3` more times since the last full
+// rotation was seen (a file with a rotation per pass has more than `queue` of them ready by
+// then, so at least one would have been delivered).
+class LoopWithoutRotation {
+ public:
+  LoopWithoutRotation(bool active, int queue_frames)
+      : active_(active), passes_(static_cast<std::uint64_t>(std::max(queue_frames, 1)) + 3) {}
+  /// On the detection thread, per frame; `wraps()` reads the reader's wrap count (called
+  /// at incomplete frames only). True once the run is to end.
+  template <class Wraps>
+  bool check(const FrameMeta& meta, const Wraps& wraps) {
+    if (!active_ || ended_) return ended_;
+    if (meta.complete) {
+      rotation_seen_ = true;
+      return false;
+    }
+    const std::uint64_t now = wraps();
+    if (rotation_seen_) {
+      since_ = now;  // at or after the rotation: a later baseline only delays the verdict
+      rotation_seen_ = false;
+    }
+    ended_ = now >= since_ + passes_;
+    return ended_;
+  }
+  [[nodiscard]] bool ended() const { return ended_; }
+
+ private:
+  bool active_ = false;
+  std::uint64_t passes_ = 0;
+  bool rotation_seen_ = false;
+  std::uint64_t since_ = 0;  // reader's wraps when a full rotation was last seen
+  bool ended_ = false;
+};
+
 // The first error of any sink; the run stops on it.
 class SinkErrors {
  public:

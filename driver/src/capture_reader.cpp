@@ -85,7 +85,7 @@ struct CaptureReader::Impl {
 
   // True when `out` received a frame.
   bool handle_data(Frame& out) {
-    const DecodeStatus status = decoder.decode(view.bytes, view.receive_ns, decoded);
+    const DecodeStatus status = decoder.decode(view.bytes, view.receive_ns, decoded, view.stamp_offset_ns);
     if (status != DecodeStatus::ok) {
       // The first packets of another sensor family decode before the timing verdict: drop
       // the frame they started.

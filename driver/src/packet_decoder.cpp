@@ -191,7 +191,7 @@ std::int64_t PacketDecoder::gps_time_ns(std::int64_t stamp_ns) {
 }
 
 DecodeStatus PacketDecoder::decode(std::span<const std::uint8_t> bytes, std::int64_t receive_ns,
-                                   DecodedPacket& out) {
+                                   DecodedPacket& out, std::int64_t stamp_offset_ns) {
   out.packet_index = packets_seen_++;
   out.receive_ns = receive_ns;
   const DecodeStatus layout = check_layout(bytes);
@@ -240,7 +240,7 @@ DecodeStatus PacketDecoder::decode(std::span<const std::uint8_t> bytes, std::int
   out.model = choose_model(out.product_byte);
   out.stamp_us_past_hour = stamp_us;
   // Continuous from the first packet: see time_base.hpp (host/sensor blend, GPS take-over).
-  const std::int64_t stamp_ns = std::int64_t{stamp_us} * 1000;
+  const std::int64_t stamp_ns = std::int64_t{stamp_us} * 1000 + stamp_offset_ns;
   const driver_detail::TimeBase::Placed placed =
       gps_reference_ ? time_base_->on_gps(stamp_ns, gps_time_ns(stamp_ns), reference_changed_)
                      : time_base_->on_host(stamp_ns, receive_ns);

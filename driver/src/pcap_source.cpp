@@ -14,6 +14,7 @@
 #include <system_error>
 
 #include "frame_parser.hpp"
+#include "loop_seam.hpp"
 #include "packet_filter.hpp"
 #include "vlpground/driver/packet_source.hpp"
 #include "vlpground/error.hpp"
@@ -163,12 +164,27 @@ class PcapSource final : public PacketSource {
     }
     const auto kind = filter_.accept(datagram, counters_);
     if (!kind) return false;
+    if (config_.loop && !continues_rotation(*kind, datagram.payload, stamp_ns)) return false;
     ++packets_this_pass_;
     pending_.bytes = datagram.payload;
     pending_.kind = *kind;
     pending_.source = driver_detail::to_source_address(datagram);
-    pending_.receive_ns = stamp_ns + loop_offset_ns_;
+    pending_.receive_ns = stamp_ns + seam_.receive_shift_ns();
+    pending_.stamp_offset_ns = seam_.stamp_shift_ns();
     has_pending_ = true;
+    return true;
+  }
+
+  // Looping: at the start of a later pass, packets before the one that continues the
+  // rotation are skipped (counted; see loop_seam.hpp). False for a skipped packet.
+  bool continues_rotation(PacketKind kind, std::span<const std::uint8_t> payload,
+                          std::int64_t stamp_ns) {
+    if (seam_.joining() && (kind != PacketKind::data || !seam_.join_at(payload, stamp_ns))) {
+      --(kind == PacketKind::data ? counters_.data_packets : counters_.position_packets);
+      ++counters_.skipped_loop;
+      return false;
+    }
+    if (kind == PacketKind::data) seam_.note_data(payload, stamp_ns);
     return true;
   }
 
@@ -178,18 +194,15 @@ class PcapSource final : public PacketSource {
     ++records_this_pass_;
   }
 
-  // Looping: each pass shifts the stamps by the capture's span (first to last record) plus
-  // its mean record spacing (at least 1 us), so receive_ns keeps increasing across passes.
+  // Looping: the next pass continues this one (loop_seam.hpp).
   bool restart_for_loop() {
     if (!config_.loop || packets_this_pass_ == 0) return false;
-    const std::int64_t span_ns = last_stamp_ns_ - first_stamp_ns_;
-    const std::int64_t gap_ns =
-        records_this_pass_ > 1 ? span_ns / static_cast<std::int64_t>(records_this_pass_ - 1) : 0;
-    loop_offset_ns_ += std::max<std::int64_t>(span_ns, 0) + std::max<std::int64_t>(gap_ns, 1000);
+    seam_.end_pass(first_stamp_ns_, last_stamp_ns_, records_this_pass_);
     handle_.reset();
     handle_ = open_capture(config_.path);
     records_this_pass_ = 0;
     packets_this_pass_ = 0;
+    ++counters_.loop_wraps;
     return true;
   }
 
@@ -228,7 +241,7 @@ class PcapSource final : public PacketSource {
   std::uint64_t packets_this_pass_ = 0;
   std::int64_t first_stamp_ns_ = 0;
   std::int64_t last_stamp_ns_ = 0;
-  std::int64_t loop_offset_ns_ = 0;
+  driver_detail::LoopSeam seam_;
 
   bool pacing_anchored_ = false;
   Clock::time_point anchor_steady_;

@@ -114,7 +114,8 @@ def read_pcap(path: PathLike, *, method: str = DEFAULT_METHOD,
         detector: full DetectorConfig; `method` and `extrinsics`, when given, override its
             fields.
         frames: stop after this many frames (default: all).
-        loop: replay the file again at its end (timestamps keep increasing).
+        loop: replay the file again at its end, joined as one continuous recording
+            (timestamps keep increasing; frames stay full rotations across the seam).
         first_frame: start at the frame of this sequence number; the frames before it are
             decoded (frames are cut where the whole capture is cut) but not labelled or
             returned, so consecutive ranges of a capture never lose or double a frame.

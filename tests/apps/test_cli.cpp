@@ -19,7 +19,7 @@
 #include "vlpground/driver/packet_source.hpp"
 
 using namespace vlpground;
-using test::free_udp_port;
+using test::free_port;
 using test::one_line;
 using test::read_lines;
 using test::run_cli;
@@ -244,7 +244,7 @@ TEST_CASE("live over loopback UDP labels like replay, and SIGINT ends a run clea
   const int frames = std::stoi(split(replay_lines.back())[0]);  // the last, partial frame
   REQUIRE(frames >= 2);
 
-  const std::uint16_t port = free_udp_port(), position_port = free_udp_port();
+  const auto [port, position_port] = test::free_port_pair();
   test::ChildProcess child({kCli, "live", "--bind", "127.0.0.1", "--port", std::to_string(port),
                             "--position-port", std::to_string(position_port), "--frames",
                             std::to_string(frames), "--partial", "--queue", "16", "--csv", live_csv.string()});
@@ -278,7 +278,7 @@ TEST_CASE("live over loopback UDP labels like replay, and SIGINT ends a run clea
   CHECK(differing == 0);
 
   test::ChildProcess idle({kCli, "live", "--bind", "127.0.0.1", "--port",
-                           std::to_string(free_udp_port()), "--position-port", "0",
+                           std::to_string(free_port()), "--position-port", "0",
                            "--allow-empty"});
   REQUIRE(idle.wait_for_stderr("listening", 20'000));
   idle.signal(SIGINT);

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "child_process.hpp"
@@ -28,7 +29,8 @@ TEST_CASE("live --sensor: two sensors on one port, frames and outputs per sensor
   const auto dir = test::temp_dir("cli_sensors");
   const auto [port, position_port] = test::free_port_pair();
   const std::string data = std::to_string(port), position = std::to_string(position_port);
-  // --frames 3 per sensor: the run ends once both sensors delivered three.
+  // --frames 3 per sensor: the run ends once both sensors delivered three full rotations
+  // (the partial first frame is output but not counted, as with one sensor).
   test::ChildProcess live({kVlpground, "live", "--bind", "127.0.0.1", "--port", data,
                            "--position-port", position, "--sensor", "front=127.0.0.2",
                            "--sensor", "rear=127.0.0.3@-1.0,0,0.2,0,0,180", "--frames", "3",
@@ -49,7 +51,17 @@ TEST_CASE("live --sensor: two sensors on one port, frames and outputs per sensor
   CHECK(json.find("\"name\":\"front\"") != std::string::npos);
   CHECK(json.find("\"name\":\"rear\"") != std::string::npos);
   CHECK(json.find("\"unknown_source\":0") != std::string::npos);
-  CHECK(json.find("\"delivered\":3") != std::string::npos);
+  const auto parsed = nlohmann::json::parse(json);
+  REQUIRE(parsed["sensors"].size() == 2);
+  for (const auto& sensor : parsed["sensors"]) {
+    INFO(sensor["name"]);
+    const auto& frames = sensor["frames"];
+    CHECK(frames["complete"] == 3);
+    CHECK(frames["delivered"].get<int>() - frames["incomplete"].get<int>() == 3);
+    CHECK(frames["incomplete"].get<int>() <= 1);  // at most the partial first rotation
+    CHECK(sensor["model"] == "vlp16");  // the fields info --json shares, per sensor
+    CHECK(sensor["gps"].is_object());
+  }
   for (const char* name : {"front", "rear"}) {
     INFO(name);
     CHECK(line_count(dir / ("returns." + std::string(name) + ".csv")) > 1000);

@@ -5,15 +5,20 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "child_process.hpp"
 #include "cli_helpers.hpp"
 #include "test_data.hpp"
-#include "vlpground/driver/packet_source.hpp"
+#include "udp_sender.hpp"
 
 using namespace vlpground;
 using test::one_line;
@@ -149,8 +154,8 @@ TEST_CASE("15.8 errors in the user's words, exit 2 for usage errors, 1 for runti
     socklen_t len = sizeof a;
     getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
     const std::string busy = std::to_string(ntohs(a.sin_port));
-    const std::string free_port = std::to_string(test::free_udp_port());
-    expect({kCli, "live", "--bind", "127.0.0.1", "--port", free_port, "--position-port", busy}, 1,
+    const std::string open_port = std::to_string(test::free_port());
+    expect({kCli, "live", "--bind", "127.0.0.1", "--port", open_port, "--position-port", busy}, 1,
            "position port " + busy + " on 127.0.0.1 is in use; use --position-port");
     expect({kCli, "live", "--bind", "127.0.0.1", "--port", busy, "--position-port", "0"}, 1,
            "data port " + busy + " on 127.0.0.1 is in use");
@@ -186,31 +191,9 @@ TEST_CASE("15.2 eval refuses labels that do not belong to the capture") {
   CHECK(ok.code == 0);
 }
 
-namespace {
-
-// Sends every packet of `pcap` to 127.0.0.1 as fast as the socket takes them.
-void send_capture(const std::filesystem::path& pcap, std::uint16_t port,
-                  std::uint16_t position_port) {
-  PcapSourceConfig c;
-  c.path = pcap.string();
-  auto source = open_pcap_source(c);
-  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in to{};
-  to.sin_family = AF_INET;
-  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  PacketView v;
-  while (source->next(v, 5000) == SourceStatus::packet) {
-    to.sin_port = htons(v.kind == PacketKind::data ? port : position_port);
-    sendto(fd, v.bytes.data(), v.bytes.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
-  }
-  close(fd);
-}
-
-}  // namespace
-
 TEST_CASE("15.5 live summaries claim only what was measured") {
   SECTION("nothing received: an error unless --allow-empty, and no verdict") {
-    const std::string port = std::to_string(test::free_udp_port());
+    const std::string port = std::to_string(test::free_port());
     const std::vector<std::string> args{kCli,         "live", "--bind",          "127.0.0.1",
                                         "--port",     port,   "--position-port", "0",
                                         "--duration", "0.2"};
@@ -228,12 +211,12 @@ TEST_CASE("15.5 live summaries claim only what was measured") {
       "first packet") {
     const auto pcap = test::shared_file("sim", "urban_strongest.pcap");
     VLPGROUND_REQUIRE_SHARED(pcap);
-    const std::uint16_t port = test::free_udp_port(), position_port = test::free_udp_port();
+    const auto [port, position_port] = test::free_port_pair();
     test::ChildProcess child({kCli, "live", "--bind", "127.0.0.1", "--port", std::to_string(port),
                               "--position-port", std::to_string(position_port), "--queue", "16",
                               "--duration", "1.5", "--json"});
     REQUIRE(child.wait_for_stderr("listening", 20'000));
-    send_capture(*pcap, port, position_port);
+    test::send_capture(pcap->string(), port, position_port, 0.0);  // as fast as it goes
     REQUIRE(child.wait_exit(30'000) == 0);
     INFO(child.out);
     const auto j = nlohmann::json::parse(child.out);
@@ -364,4 +347,202 @@ TEST_CASE("15.10 --frames N counts full rotations unless --partial") {
   const auto partial = frames({"--frames", "2", "--partial"});
   CHECK(partial["delivered"] == 2);
   CHECK(partial["incomplete"] == 1);
+}
+
+namespace {
+
+// JSON's own types; signed and unsigned integers are one.
+std::string json_kind(const nlohmann::json& v) {
+  return v.is_number_integer() ? "integer" : v.type_name();
+}
+
+// Fields present in both documents (recursively) whose types differ, as "path: a vs b".
+void type_mismatches(const nlohmann::json& a, const nlohmann::json& b, const std::string& path,
+                     std::vector<std::string>& out, int& shared) {
+  for (auto it = a.begin(); it != a.end(); ++it) {
+    if (!b.contains(it.key())) continue;
+    const auto& other = b[it.key()];
+    const std::string where = path + "/" + it.key();
+    ++shared;
+    if (json_kind(*it) != json_kind(other)) {
+      out.push_back(where + ": " + json_kind(*it) + " vs " + json_kind(other));
+    } else if (it->is_object()) {
+      type_mismatches(*it, other, where, out, shared);
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("15.9 info --json and replay --json: one type per field, the same measured facts") {
+  std::vector<std::filesystem::path> captures{test::project_pcap("urban_demo.pcap"),
+                                              test::project_pcap("hills_demo.pcap"),
+                                              test::project_pcap("slope_dual.pcap")};
+  const auto dir = test::temp_dir("cli_json_shapes");
+  const auto sim = run_cli({kCli, "sim", "flat", "--frames", "2", "--model", "hires", "--mode",
+                            "last", "--out", (dir / "flat_hires_last").string()});
+  REQUIRE(sim.code == 0);
+  captures.push_back(dir / "flat_hires_last.pcap");
+  const std::size_t required = captures.size();  // these must replay
+  if (const auto real = test::shared_file("real", "README.md")) {
+    for (const auto& e : std::filesystem::directory_iterator(real->parent_path())) {
+      if (e.path().extension() == ".pcap") captures.push_back(e.path());
+    }
+  } else {
+    WARN("real captures skipped: ../shared/data/real not found (set VLPGROUND_SHARED_DIR)");
+  }
+  int compared = 0;
+  for (std::size_t k = 0; k < captures.size(); ++k) {
+    const std::string pcap = captures[k].string();
+    INFO(pcap);
+    const auto info = run_cli({kCli, "info", pcap, "--json"});
+    const auto replay = run_cli({kCli, "replay", pcap, "--json"});
+    if (k >= required && (info.code != 0 || replay.code != 0)) continue;  // not a VLP-16 capture
+    REQUIRE(info.code == 0);
+    REQUIRE(replay.code == 0);
+    const auto i = nlohmann::json::parse(info.out);
+    const auto r = nlohmann::json::parse(replay.out);
+    std::vector<std::string> mismatches;
+    int shared = 0;
+    type_mismatches(i, r, "", mismatches, shared);
+    CAPTURE(mismatches);
+    CHECK(mismatches.empty());
+    CHECK(shared >= 20);  // model, rpm, gps, packets..., not a handful
+    // Measured facts of the capture: the same values.
+    for (const char* key : {"model", "return_mode", "time_source", "calibration", "gps"}) {
+      INFO(key);
+      CHECK(i[key] == r[key]);
+    }
+    CHECK(i["model"].is_string());
+    CHECK(i["gps"].is_object());
+    for (const char* key : {"delivered", "complete", "incomplete"}) {
+      CHECK(i["frames"][key] == r["frames"][key]);
+    }
+    for (const char* key : {"data", "position", "lost"}) {
+      CHECK(i["packets"][key] == r["packets"][key]);
+    }
+    CHECK(i["rpm"].get<double>() == Approx(r["rpm"].get<double>()));
+    CHECK(i["duration_s"].get<double>() == Approx(r["duration_s"].get<double>()));
+    ++compared;
+  }
+  CHECK(compared >= static_cast<int>(required));
+}
+
+namespace {
+
+// One frame of a `--csv` file: returns, first firing time, whole degrees of azimuth covered.
+struct CsvFrame {
+  std::uint64_t returns = 0;
+  double first_us = 1e300;
+  std::set<int> degrees;
+};
+
+std::map<int, CsvFrame> csv_frames(const std::filesystem::path& csv) {
+  std::map<int, CsvFrame> frames;
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  const auto header = test::split(line);
+  const auto column = [&](const char* name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  const std::size_t frame = column("frame"), time = column("timestamp_us"),
+                    azimuth = column("azimuth_deg");
+  REQUIRE(azimuth < header.size());
+  while (std::getline(in, line)) {
+    const auto f = test::split(line);
+    CsvFrame& out = frames[std::stoi(f[frame])];
+    ++out.returns;
+    out.first_us = std::min(out.first_us, std::stod(f[time]));
+    out.degrees.insert(static_cast<int>(std::stod(f[azimuth])));
+  }
+  return frames;
+}
+
+// "frame 3: 1808 columns, 16902 returns, ..." lines: columns and whether partial.
+std::vector<std::pair<int, bool>> frame_line_columns(const std::string& out) {
+  std::vector<std::pair<int, bool>> frames;
+  std::istringstream lines(out);
+  for (std::string l; std::getline(lines, l);) {
+    int sequence = 0, columns = 0;
+    if (std::sscanf(l.c_str(), "frame %d: %d columns", &sequence, &columns) != 2) continue;
+    frames.emplace_back(columns, l.find("(partial rotation)") != std::string::npos);
+  }
+  return frames;
+}
+
+double median_of(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+TEST_CASE("15.10 --loop joins the end of the file to its start: full rotations across the wraps") {
+  SECTION("single and dual return: after the first frame, every frame is one whole turn") {
+    for (const char* name : {"urban_demo.pcap", "slope_dual.pcap"}) {
+      INFO(name);
+      const auto csv = test::temp_dir("cli_loop") / "loop.csv";
+      // About three passes of a file with three full rotations.
+      const auto r = run_cli({kCli, "replay", test::project_pcap(name).string(), "--loop",
+                              "--frames", "12", "--csv", csv.string(), "--json"});
+      INFO(r.err);
+      REQUIRE(r.code == 0);
+      const auto j = nlohmann::json::parse(r.out);
+      CHECK(j["loop"]["wraps"].get<int>() >= 3);
+      CHECK(j["loop"]["skipped_packets"].get<int>() > 0);
+      CHECK(j["frames"]["incomplete"] == 1);  // the first frame only: the file starts mid-turn
+      CHECK(j["packets"]["lost"] == 0);
+      const auto frames = csv_frames(csv);
+      REQUIRE(frames.size() == 13);
+      std::vector<double> returns;
+      for (const auto& [k, f] : frames) {
+        if (k > 0) returns.push_back(static_cast<double>(f.returns));
+      }
+      const double typical = median_of(returns);
+      double previous_us = 0;
+      for (const auto& [k, f] : frames) {
+        INFO("frame " << k);
+        if (k > 0) {
+          CHECK(static_cast<double>(f.returns) == Approx(typical).epsilon(0.02));
+          CHECK(f.degrees.size() >= 358);
+        }
+        if (k > 1) CHECK(f.first_us - previous_us == Approx(100'000).epsilon(0.01));  // 600 rpm
+        previous_us = f.first_us;
+      }
+    }
+  }
+  SECTION("a capture that never gives a full rotation: --frames ends with an error, not never") {
+    const auto pcap = test::shared_file("real", "vlp16_short.pcap");  // gaps, < one rotation
+    VLPGROUND_REQUIRE_SHARED(pcap);
+    const auto r = run_cli({kCli, "replay", pcap->string(), "--loop", "--frames", "5"});
+    CHECK(r.code == 1);
+    CHECK(r.err.find("--frames 5 counts full rotations") != std::string::npos);
+    CHECK(r.err.find("add --partial") != std::string::npos);
+    CHECK(run_cli({kCli, "replay", pcap->string(), "--loop", "--frames", "5", "--partial"}).code ==
+          0);
+  }
+  SECTION("a real capture at 1200 rpm without GPS, over two wraps") {
+    const auto pcap = test::shared_file("real", "vlp16_1200rpm_productbyte21.pcap");
+    VLPGROUND_REQUIRE_SHARED(pcap);
+    const auto r = run_cli({kCli, "replay", pcap->string(), "--loop", "--frames", "110"});
+    REQUIRE(r.code == 0);
+    const auto frames = frame_line_columns(r.out);
+    REQUIRE(frames.size() == 111);
+    CHECK(frames[0].second);  // the partial first frame
+    std::vector<double> columns;
+    for (std::size_t k = 1; k < frames.size(); ++k) columns.push_back(frames[k].first);
+    const double typical = median_of(columns);
+    for (std::size_t k = 1; k < frames.size(); ++k) {
+      INFO("frame " << k);
+      CHECK_FALSE(frames[k].second);
+      CHECK(frames[k].first >= 0.95 * typical);
+      CHECK(frames[k].first <= 1.01 * typical);
+    }
+    int wraps = 0;
+    const auto at = r.out.find("  loop ");
+    REQUIRE(at != std::string::npos);
+    std::sscanf(r.out.c_str() + at, "  loop %d wraps", &wraps);
+    CHECK(wraps >= 2);
+  }
 }

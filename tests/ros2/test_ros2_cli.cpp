@@ -128,7 +128,7 @@ TEST_CASE("live --ros2: UDP frames reach a subscriber with the labels of the sam
                          std::to_string(kFrames), "--csv", csv, "--timeout-ms",
                          std::to_string(kTimeoutMs)});
   REQUIRE(listener.wait_for_stderr("listening", kTimeoutMs));
-  const std::uint16_t port = vlpground::test::free_udp_port();
+  const std::uint16_t port = vlpground::test::free_port();
   // --csv before --ros2: each frame's CSV rows are flushed before it is published.
   ChildProcess live({VLPGROUND_CLI, "live", "--bind", "127.0.0.1", "--port", std::to_string(port),
                      "--position-port", "0", "--csv", csv, "--ros2", "--ros2-domain", domain,

@@ -9,6 +9,7 @@
 #include "capture_builder.hpp"
 #include "test_data.hpp"
 #include "vlpground/driver/packet_source.hpp"
+#include "vlpground/types.hpp"
 
 using namespace vlpground;
 using namespace vlpground::test;
@@ -313,6 +314,62 @@ TEST_CASE("pcap: looping replays the capture with increasing stamps until stoppe
   CHECK(source->counters().data_packets == 7);
   source->request_stop();
   CHECK(source->next(view, 0) == SourceStatus::stopped);
+}
+
+TEST_CASE("pcap: looping joins the end of a capture to its start as one recording") {
+  // The demo capture: 283 data packets, 0.73 + 3 + 0.02 rotations at 600 rpm.
+  PcapSourceConfig config;
+  config.path = project_pcap("urban_demo.pcap").string();
+  config.loop = true;
+  auto source = open_pcap_source(config);
+  const auto stamp_us = [](const PacketView& v) {
+    return static_cast<std::int64_t>(v.bytes[1200]) | std::int64_t{v.bytes[1201]} << 8 |
+           std::int64_t{v.bytes[1202]} << 16 | std::int64_t{v.bytes[1203]} << 24;
+  };
+  const auto degrees = [](const PacketView& v, std::size_t block) {
+    return (v.bytes[block * 100 + 2] | v.bytes[block * 100 + 3] << 8) / 100.0;
+  };
+  PacketView view;
+  std::int64_t last_time_ns = 0, last_receive_ns = 0, last_offset_ns = 0;
+  double last_final_deg = 0;
+  int data = 0, joins = 0;
+  while (data < 283 + 100) {  // into the second pass
+    REQUIRE(source->next(view, 0) == SourceStatus::packet);
+    if (view.kind != PacketKind::data) continue;
+    ++data;
+    // The sensor's clock as the decoder sees it: stamp plus the pass's offset.
+    const std::int64_t time_ns = stamp_us(view) * 1000 + view.stamp_offset_ns;
+    if (data > 1) {
+      // Every step, the seam's too, is one packet period (1327 or 1328 us stamps).
+      const std::int64_t step = time_ns - last_time_ns;
+      CHECK(step >= 1'327'000);
+      CHECK(step <= 1'328'000);
+      CHECK(view.receive_ns > last_receive_ns);
+      if (view.stamp_offset_ns != last_offset_ns) {  // the seam
+        ++joins;
+        CHECK(step == kSinglePacketPeriodNs);
+        // The rotation continues: the first firing is at most one packet's sweep after the
+        // previous pass's last block.
+        double advance = degrees(view, 0) - last_final_deg;
+        if (advance < 0) advance += 360;
+        CHECK(advance > 0);
+        CHECK(advance <= 5.0);
+      }
+    }
+    last_offset_ns = view.stamp_offset_ns;
+    last_time_ns = time_ns;
+    last_receive_ns = view.receive_ns;
+    last_final_deg = degrees(view, 11);
+  }
+  CHECK(joins == 1);
+  const SourceCounters& c = source->counters();
+  CHECK(c.loop_wraps == 1);
+  // The second pass skipped the packets before the continuation (the 0.73 partial turn and
+  // then some), counted, and not as data.
+  CHECK(c.skipped_loop > 50);
+  CHECK(c.skipped_loop < 80);
+  CHECK(c.data_packets == 283 + 100);
+  CHECK(c.records == c.data_packets + c.position_packets + c.skipped());
 }
 
 TEST_CASE("pcap: looping a capture without packets ends instead of spinning") {

@@ -124,9 +124,10 @@ class PacketDecoder {
 
   /// Decodes `bytes` received at `receive_ns` (pcap record time or host clock, ns since the
   /// epoch) into `out`. Never throws, never allocates; a malformed packet is a status and a
-  /// counter.
+  /// counter. `stamp_offset_ns` is added to the packet's stamp before it is placed in time
+  /// (PacketView::stamp_offset_ns: a looped replay's later passes).
   DecodeStatus decode(std::span<const std::uint8_t> bytes, std::int64_t receive_ns,
-                      DecodedPacket& out);
+                      DecodedPacket& out, std::int64_t stamp_offset_ns = 0);
 
   /// Hour of the packet stamps from GPS: `top_of_hour_ns` is the UTC top of the hour the
   /// next data packet's stamp counts from; later hour wraps follow by continuity. Prefer

@@ -34,6 +34,9 @@ struct PacketView {
   SourceAddress source;                // sender (pcap, UDP; whatever push() was given)
   std::int64_t receive_ns = 0;         // capture timestamp (pcap) or kernel/host receive time (UDP)
   std::int64_t steady_receive_ns = 0;  // host steady clock at receipt (for latency)
+  // Looped replay: added to the packet's own stamp (microseconds past the hour) by the
+  // decoder, so that each pass of the file continues the previous one on the sensor's clock.
+  std::int64_t stamp_offset_ns = 0;
 };
 
 enum class SourceStatus : std::uint8_t {
@@ -54,9 +57,12 @@ struct SourceCounters {
   std::uint64_t truncated = 0;        // records cut short (snaplen, truncated file)
   std::uint64_t kernel_drops = 0;     // SO_RXQ_OVFL (live)
   std::uint64_t queue_full = 0;       // push source: packets refused because it was full
+  std::uint64_t loop_wraps = 0;       // looped replay: times the file was joined to its start
+  std::uint64_t skipped_loop = 0;     // looped replay: packets skipped at the start of a pass
+                                      // so that the rotation continues (PcapSourceConfig::loop)
   [[nodiscard]] std::uint64_t skipped() const {
     return skipped_other + skipped_wrong_size + skipped_fragment + skipped_address + truncated +
-           queue_full;
+           queue_full + skipped_loop;
   }
 };
 
@@ -89,9 +95,16 @@ struct PcapSourceConfig {
   std::uint16_t position_port = 8308;
   std::string sensor_address;  // empty: any; else only packets from this IPv4/IPv6 address
   double rate = 0.0;           // 0 = as fast as possible; 1.0 = real time by capture stamps
-  /// Replays the file again at its end. Each pass shifts receive_ns by the capture's span
-  /// (first to last record) plus its mean record spacing (at least 1 us), so stamps keep
-  /// increasing. A pass without any packet ends the replay (no endless spinning).
+  /// Replays the file again at its end, joined as if it were one continuous recording:
+  /// each later pass starts at the data packet that continues the rotation where the
+  /// previous pass ended (the packets before it are skipped and counted in
+  /// SourceCounters::skipped_loop) and is shifted in time so that this packet comes one
+  /// packet period after the previous pass's last one, on the capture stamps (receive_ns)
+  /// and on the sensor's clock (PacketView::stamp_offset_ns). Frames then run across the
+  /// seam as full rotations. A capture of less than a rotation plus two packets is not
+  /// joined: its passes follow one another (receive_ns shifted by the capture's span plus
+  /// its mean record spacing, at least 1 us). A pass without any packet ends the replay
+  /// (no endless spinning). SourceCounters::loop_wraps counts the joins.
   bool loop = false;
   /// Throws std::invalid_argument (empty path, data_port 0, rate < 0, bad sensor_address).
   void validate() const;
