@@ -59,14 +59,18 @@ bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Ind
                                 Index b) const {
   const float extent = std::hypot(cloud.x[b] - cloud.x[a], cloud.y[b] - cloud.y[a]);
   if (extent > p_.silhouette_max_m) return false;
-  auto open = [&](Index end, Index beyond, bool has_beyond) {
-    if (!has_beyond) return false;  // the frame's first or last column: unknown
-    if (std::abs(static_cast<int>(cloud.column[beyond]) - static_cast<int>(cloud.column[end])) >
-        p_.sky_columns)
-      return true;  // no return for a while: the sky
-    return cloud.range_xy[beyond] > cloud.range_xy[end] + p_.run_gap_m;
+  const int columns = static_cast<int>(column_start_.size()) - 1;
+  // Columns without a return between the run's end and the next return of the ring (or
+  // the frame's edge, beyond which nothing is known).
+  auto open = [&](Index end, Index beyond, bool has_beyond, int edge_gap) {
+    const int gap = has_beyond ? std::abs(static_cast<int>(cloud.column[beyond]) -
+                                          static_cast<int>(cloud.column[end])) - 1
+                               : edge_gap;
+    if (gap >= p_.sky_columns) return true;  // no return for a while: the sky
+    return has_beyond && cloud.range_xy[beyond] > cloud.range_xy[end] + p_.run_gap_m;
   };
-  return open(a, a - 1, a > first) && open(b, b + 1, b + 1 < last);
+  return open(a, a - 1, a > first, static_cast<int>(cloud.column[a])) &&
+         open(b, b + 1, b + 1 < last, columns - 1 - static_cast<int>(cloud.column[b]));
 }
 
 // Counting sort by column; the cloud is in (layer, ring, column) order, so each column's

@@ -1,7 +1,8 @@
 // Issue 10 on a CI-sized slice of the evaluation set (scripts/make_eval_set.sh makes the
 // full one): every simulator scene kind at one tuning seed (1) and one held-out seed (101),
 // strongest and dual, 2 frames, made in-process by the simulator. The default method (the
-// paper's with terrain refinement) against the paper's alone (terrain_refinement = false).
+// paper's with terrain refinement and column profiles) against the cells alone
+// (column_profiles = false) and the paper's alone (terrain_refinement = false).
 // Floors are the minima measured when they were set (docs/accuracy.md) less 0.01; where
 // the issue's targets (F1 >= 0.98, high obstacles <= 0.5 %) are not met yet, the floor says
 // what is, and docs/detector.md lists the gap.
@@ -23,7 +24,7 @@ using vlpground::DetectorConfig;
 using vlpground::sim::SceneKind;
 
 struct Result {
-  vlpground::eval::Score refined, paper;
+  vlpground::eval::Score refined, cells, paper;
   std::vector<double> near_recall;  // per frame: truth ground within 10 m labelled ground
 };
 
@@ -47,12 +48,14 @@ Result evaluate(const fs::path& stem) {
   pcap += ".pcap";
   labels += ".labels";
   json += ".json";
-  std::vector<DetectorConfig> configs(2);
-  configs[1].terrain_refinement = false;
+  std::vector<DetectorConfig> configs(3);
+  configs[1].column_profiles = false;
+  configs[2].column_profiles = false;
+  configs[2].terrain_refinement = false;
   for (auto& c : configs) c.extrinsics = vlpground::eval::load_sim_extrinsics(json);
   vlpground::eval::CaptureScoreOptions options;
   const auto scores = vlpground::eval::score_capture(pcap, labels, configs, options);
-  Result r{scores[0].score, scores[1].score, {}};
+  Result r{scores[0].score, scores[1].score, scores[2].score, {}};
   // The road under the vehicle: recall of truth ground within 10 m, frame by frame.
   vlpground::eval::CaptureScoreOptions near;
   near.score.radius_m = 10.0;
@@ -85,17 +88,17 @@ const std::map<std::string, Result>& results() {
 std::string kind_of(const std::string& name) { return name.substr(0, name.find('_')); }
 
 // Minimum F1 of the default method per kind on this slice, less 0.01 (measured at the
-// revision that set them; see docs/accuracy.md for the full set).
+// revision that set them; see docs/accuracy.md for the full set). The issue's 0.98 holds on
+// every capture of this slice; the full evaluation set has harder ones (docs/detector.md).
 const std::map<std::string, double> kFloor = {
-    {"flat", 0.98}, {"urban", 0.98},  {"slope", 0.98},      {"hills", 0.96},
-    {"jam", 0.98},  {"fences", 0.97}, {"embankment", 0.80}, {"bank", 0.70},
-    {"bowl", 0.93}, {"crest", 0.97},  {"garage", 0.80},
+    {"flat", 0.98}, {"urban", 0.98},  {"slope", 0.98},      {"hills", 0.975},
+    {"jam", 0.98},  {"fences", 0.97}, {"embankment", 0.97}, {"bank", 0.97},
+    {"bowl", 0.98}, {"crest", 0.98},  {"garage", 0.97},
 };
 
 // Obstacles more than 0.5 m above the terrain labelled ground: the issue's 0.5 % holds on
-// every kind but three; there the limit is what was measured (docs/detector.md, known limits).
-const std::map<std::string, double> kHighLimit = {
-    {"garage", 0.012}, {"hills", 0.04}, {"bank", 0.07}};
+// every kind of this slice but two; there the limit is what was measured (docs/detector.md).
+const std::map<std::string, double> kHighLimit = {{"fences", 0.01}, {"bank", 0.035}};
 
 }  // namespace
 
@@ -110,11 +113,23 @@ TEST_CASE("terrain refinement on the evaluation slice", "[evaluation][terrain]")
   SECTION("rolling and curved terrain gain over the paper's method") {
     for (const auto& [name, r] : results()) {
       const std::string kind = kind_of(name);
-      INFO(name << ": refined F1 " << r.refined.all.f1() << ", paper only " << r.paper.all.f1());
-      if (kind == "hills" || kind == "bowl" || kind == "embankment")
+      INFO(name << ": default F1 " << r.refined.all.f1() << ", paper only " << r.paper.all.f1());
+      if (kind == "hills" || kind == "bowl" || kind == "embankment" || kind == "bank")
         CHECK(r.refined.all.f1() >= r.paper.all.f1() + 0.02);
+      else  // fences at seed 101 lose 0.010 (single ring lines on low fences; docs/detector.md)
+        CHECK(r.refined.all.f1() >= r.paper.all.f1() - 0.012);
+    }
+  }
+  SECTION("column profiles gain over the cells alone") {
+    for (const auto& [name, r] : results()) {
+      const std::string kind = kind_of(name);
+      INFO(name << ": default F1 " << r.refined.all.f1() << ", cells only " << r.cells.all.f1());
+      if (kind == "bank") CHECK(r.refined.all.f1() >= r.cells.all.f1() + 0.03);
+      if (kind == "bank" || kind == "garage" || kind == "embankment" || kind == "hills" ||
+          kind == "bowl")
+        CHECK(r.refined.all.f1() > r.cells.all.f1());
       else
-        CHECK(r.refined.all.f1() >= r.paper.all.f1() - 0.01);
+        CHECK(r.refined.all.f1() >= r.cells.all.f1() - 0.012);
     }
   }
   SECTION("tall obstacles stay obstacles") {
@@ -130,7 +145,7 @@ TEST_CASE("terrain refinement on the evaluation slice", "[evaluation][terrain]")
       if (kind_of(name) != "embankment") continue;
       INFO(name);
       REQUIRE_FALSE(r.near_recall.empty());
-      for (const double recall : r.near_recall) CHECK(recall >= 0.9);
+      for (const double recall : r.near_recall) CHECK(recall >= 0.995);
     }
   }
 }

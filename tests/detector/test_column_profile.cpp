@@ -1,0 +1,121 @@
+// Column profiles (level 3 of the terrain model): a synthetic scan of 360 columns and 12
+// rings over a road with a bank rising on one side, fields 2 m under a levee on another, a
+// wall, and a crate seen by the top ring against the sky (a silhouette).
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <vector>
+
+#include "column_profile.hpp"
+#include "steep.hpp"
+
+using namespace vlpground::detail;
+
+namespace {
+
+constexpr int kColumns = 360, kRings = 12;
+constexpr float kDeg = 3.14159265f / 180.f;
+
+float ring_range(int ring) { return 6.f + 1.5f * static_cast<float>(ring); }
+
+// The terrain: level road; fields 2 m lower beyond x = 16, the levee's side (x 10..16) in
+// its shadow; a bank rising at 0.3 beyond y = -5; seen from (0, 0), mounting height known.
+bool in_shadow(float x) { return x > 10.f && x < 16.f; }
+float terrain(float x, float y) {
+  if (x >= 16.f) return -2.f;
+  if (y < -5.f) return 0.3f * (-5.f - y);
+  return 0.f;
+}
+
+bool wall_column(int col) { return col >= 80 && col <= 100; }  // a wall 12 m out at +y
+bool box_cell(int ring, int col) { return ring == 11 && col >= 200 && col <= 205; }
+
+struct Scan {
+  Cloud cloud;
+  std::vector<int> truth;  // 1 ground, 2 obstacle
+};
+
+void add(Scan& s, int ring, int col, float r, float z, int truth) {
+  const float a = static_cast<float>(col) * kDeg;
+  Cloud& c = s.cloud;
+  c.x.push_back(r * std::cos(a));
+  c.y.push_back(r * std::sin(a));
+  c.z.push_back(z);
+  c.range_xy.push_back(r);
+  c.cell.push_back(static_cast<std::uint32_t>(ring * kColumns + col));
+  c.layer.push_back(0);
+  c.ring.push_back(static_cast<std::uint16_t>(ring));
+  c.column.push_back(static_cast<std::uint16_t>(col));
+  s.truth.push_back(truth);
+}
+
+Scan make_scan() {
+  Scan s;
+  for (int ring = 0; ring < kRings; ++ring) {  // cloud order: layer, ring, column
+    for (int col = 0; col < kColumns; ++col) {
+      const float r = ring_range(ring), a = static_cast<float>(col) * kDeg;
+      if (wall_column(col) && r >= 12.f) {
+        add(s, ring, col, 12.f, 0.3f * static_cast<float>(ring - 3), 2);
+      } else if (box_cell(ring, col)) {
+        add(s, ring, col, 22.5f, 0.35f, 2);  // a crate the column alone would take
+      } else if (ring < kRings - 1 && !in_shadow(r * std::cos(a))) {  // the top ring: sky
+        add(s, ring, col, r, terrain(r * std::cos(a), r * std::sin(a)), 1);
+      }
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("column profiles follow a bank, a levee's fields and stop at walls and boxes",
+          "[detector][profiles]") {
+  const Scan scan = make_scan();
+  std::vector<std::uint8_t> steep;
+  mark_steep(scan.cloud, steep);
+  ProfileParams p;
+  p.sensor_z = 1.8f;  // mounting height known: the ground under the sensor is z = 0
+  const std::vector<float> level2(scan.cloud.size(), std::nanf(""));
+  ColumnProfiles profiles;
+  std::vector<std::uint8_t> ground;
+  std::vector<float> height;
+  profiles.label(scan.cloud, steep.data(), level2, p, ground, height);
+
+  int bank = 0, fields = 0;
+  for (std::size_t i = 0; i < scan.cloud.size(); ++i) {
+    INFO("ring " << scan.cloud.ring[i] << " column " << scan.cloud.column[i] << " z "
+                 << scan.cloud.z[i]);
+    const bool wall_beyond_ground =
+        wall_column(scan.cloud.column[i]) && scan.cloud.range_xy[i] < 12.f;
+    if (scan.truth[i] == 2) {
+      CHECK(ground[i] == 0);
+    } else if (!wall_beyond_ground) {
+      CHECK(ground[i] == 1);
+      if (scan.cloud.z[i] == 0.f) CHECK(std::abs(height[i]) < 0.05f);  // the road
+    }
+    bank += scan.truth[i] == 1 && scan.cloud.y[i] < -6.f && ground[i] == 1;
+    fields += scan.truth[i] == 1 && scan.cloud.z[i] < -1.f && ground[i] == 1;
+  }
+  CHECK(bank > 150);
+  CHECK(fields > 200);
+}
+
+TEST_CASE("column profiles: a single ring raised over the level-2 surface is dropped",
+          "[detector][profiles]") {
+  Scan s;
+  // One column: ground at 6, 7.5, 9 m; ring 3 a low fence line at 10.5 m, 0.5 m up;
+  // ground at 12 m. The level-2 surface is the level road.
+  for (int ring = 0; ring < 5; ++ring) {
+    const bool fence = ring == 3;
+    add(s, ring, 0, ring_range(ring), fence ? 0.5f : 0.f, fence ? 2 : 1);
+  }
+  std::vector<std::uint8_t> steep;
+  mark_steep(s.cloud, steep);
+  std::vector<float> level2(s.cloud.z.begin(), s.cloud.z.end());
+  ProfileParams p;
+  p.sensor_z = 1.8f;
+  ColumnProfiles profiles;
+  std::vector<std::uint8_t> ground;
+  std::vector<float> height;
+  profiles.label(s.cloud, steep.data(), level2, p, ground, height);
+  CHECK(ground == std::vector<std::uint8_t>{1, 1, 1, 0, 1});
+}
