@@ -49,8 +49,9 @@ void ColumnProfiles::drop_silhouettes(const Cloud& cloud, std::vector<std::uint8
 
 bool ColumnProfiles::continuous(const Cloud& cloud, Index a, Index b) const {
   if (cloud.column[b] - cloud.column[a] > p_.run_column_gap) return false;
-  const float gap = std::hypot(cloud.range_xy[b] - cloud.range_xy[a], cloud.z[b] - cloud.z[a]);
-  return gap <= p_.run_gap_m + p_.run_gap_per_m * cloud.range_xy[a];
+  const float dr = cloud.range_xy[b] - cloud.range_xy[a], dz = cloud.z[b] - cloud.z[a];
+  const float limit = p_.run_gap_m + p_.run_gap_per_m * cloud.range_xy[a];
+  return dr * dr + dz * dz <= limit * limit;
 }
 
 // Run [a, b] of one ring (positions first..last): short, and both ends open to the sky or

@@ -39,9 +39,12 @@ void bm_detect(benchmark::State& state, const std::string& stem, const std::stri
     return;
   }
   DetectorConfig cfg;
-  // "tangent-paper": the paper's method without terrain refinement, for comparison.
-  cfg.method = method == "tangent-paper" ? GroundMethod::tangent : *parse_ground_method(method);
+  // "tangent-paper": the paper's method without terrain refinement, "tangent-cells" without
+  // the column profiles, for comparison.
+  const bool variant = method == "tangent-paper" || method == "tangent-cells";
+  cfg.method = variant ? GroundMethod::tangent : *parse_ground_method(method);
   cfg.terrain_refinement = method != "tangent-paper";
+  cfg.column_profiles = method == "tangent";
   GroundDetector det(cfg);
   GroundResult result;
   det.detect(frames->front(), result);  // warm-up: sizes every workspace
@@ -74,7 +77,7 @@ void bm_detect(benchmark::State& state, const std::string& stem, const std::stri
 void register_all() {
   for (const char* stem : {"flat_strongest", "urban_strongest", "slope_strongest", "jam_strongest",
                            "fences_strongest", "flat_dual", "jam_dual", "flat_20hz"}) {
-    for (const char* method : {"tangent", "tangent-paper", "ransac", "lpr"}) {
+    for (const char* method : {"tangent", "tangent-cells", "tangent-paper", "ransac", "lpr"}) {
       benchmark::RegisterBenchmark((std::string("detect/") + method + "/" + stem).c_str(),
                                    [s = std::string(stem), m = std::string(method)](
                                        benchmark::State& st) { bm_detect(st, s, m); })
