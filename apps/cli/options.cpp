@@ -107,9 +107,8 @@ void add_detector_options(CLI::App& cmd, PipelineConfig& config) {
   cmd.add_option_function<std::string>(
          "--column-profiles",
          [&d](const std::string& v) { d.column_profiles = v == "on"; },
-         "tangent method with terrain refinement: label every column of the range image by "
-         "its own ground profile (on; better on banks, embankments, ramps, hills, but more "
-         "obstacles taken for ground), or by the cells (off)")
+         "tangent method with terrain refinement: label each column of the range image by "
+         "its own ground profile, checked against the cells (on), or by the cells alone (off)")
       ->check(CLI::IsMember({"on", "off"}))
       ->default_str("on")
       ->group(group);

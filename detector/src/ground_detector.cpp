@@ -62,8 +62,6 @@ void DetectorConfig::validate() const {
   require(finite(label_below_m) && label_below_m > 0, "label_below_m", "must be > 0");
   require(finite(label_growth_per_m) && label_growth_per_m >= 0 && label_growth_per_m < 1,
           "label_growth_per_m", "must be in [0, 1)");
-  require(!column_profiles || (method == GroundMethod::tangent && terrain_refinement),
-          "column_profiles", "needs method tangent with terrain_refinement");
   require(finite(refinement_cell_m) && refinement_cell_m >= bin_size_m &&
               refinement_cell_m <= 20,
           "refinement_cell_m", "must be in [bin_size_m, 20] m");

@@ -99,6 +99,9 @@ void bind_detector(py::module_& m) {
       .def_readwrite("steep_label_height_m", &C::steep_label_height_m)
       .def_readwrite("label_below_m", &C::label_below_m)
       .def_readwrite("label_growth_per_m", &C::label_growth_per_m)
+      .def_readwrite("terrain_refinement", &C::terrain_refinement)
+      .def_readwrite("refinement_cell_m", &C::refinement_cell_m)
+      .def_readwrite("column_profiles", &C::column_profiles)
       .def("validate", &C::validate, "Raises ValueError naming a bad field and its valid range.")
       .def("__repr__", [](const C& c) {
         return "DetectorConfig(method='" + method_name(c) + "', extrinsics=" +

@@ -43,6 +43,9 @@ class DetectorConfig:
     steep_label_height_m: float
     label_below_m: float
     label_growth_per_m: float
+    terrain_refinement: bool
+    refinement_cell_m: float
+    column_profiles: bool
     def __init__(self, **fields: object) -> None: ...
     def validate(self) -> None: ...
 

@@ -93,10 +93,10 @@ struct DetectorConfig {
   // method alone.
   bool terrain_refinement = true;
   double refinement_cell_m = 4.0;
-  // Column profiles (level 3, needs terrain_refinement; docs/detector.md): every column of
-  // the range image is walked outwards from the ground under the vehicle and labelled by
-  // its own ground profile. Far better F1 on banks, embankments, ramps and hills; more
-  // obstacles taken for ground (one ring line on a fence or a shed), so off by default.
+  // Column profiles (level 3; docs/detector.md): every column of the range image is walked
+  // outwards from the ground under the vehicle and labelled by its own ground profile,
+  // checked against the cells' surface and along the rings. Only with method tangent and
+  // terrain_refinement (ignored otherwise); false: the cells label.
   bool column_profiles = true;
 
   /// Throws std::invalid_argument naming the bad field and its valid range.
