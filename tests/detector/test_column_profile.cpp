@@ -17,11 +17,12 @@ constexpr float kDeg = 3.14159265f / 180.f;
 
 float ring_range(int ring) { return 6.f + 1.5f * static_cast<float>(ring); }
 
-// The terrain: level road; fields 2 m lower beyond x = 16, the levee's side (x 10..16) in
-// its shadow; a bank rising at 0.3 beyond y = -5; seen from (0, 0), mounting height known.
-bool in_shadow(float x) { return x > 10.f && x < 16.f; }
+// The terrain: level road; fields 2 m lower beyond x = 12, the levee's side (x 10..12) in
+// its shadow (a drop steeper than any ground gradient); a bank rising at 0.3 beyond
+// y = -5; seen from (0, 0), mounting height known.
+bool in_shadow(float x) { return x > 10.f && x < 12.f; }
 float terrain(float x, float y) {
-  if (x >= 16.f) return -2.f;
+  if (x >= 12.f) return -2.f;
   if (y < -5.f) return 0.3f * (-5.f - y);
   return 0.f;
 }
@@ -102,11 +103,11 @@ TEST_CASE("column profiles follow a bank, a levee's fields and stop at walls and
 TEST_CASE("column profiles: a single ring raised over the level-2 surface is dropped",
           "[detector][profiles]") {
   Scan s;
-  // One column: ground at 6, 7.5, 9 m; ring 3 a low fence line at 10.5 m, 0.5 m up;
-  // ground at 12 m. The level-2 surface is the level road.
+  // One column: ground at 6, 7.5, 9 m; ring 3 a low fence line at 10.5 m, 0.38 m up (the
+  // walk alone would take it); ground at 12 m. The level-2 surface is the level road.
   for (int ring = 0; ring < 5; ++ring) {
     const bool fence = ring == 3;
-    add(s, ring, 0, ring_range(ring), fence ? 0.5f : 0.f, fence ? 2 : 1);
+    add(s, ring, 0, ring_range(ring), fence ? 0.38f : 0.f, fence ? 2 : 1);
   }
   std::vector<std::uint8_t> steep;
   mark_steep(s.cloud, steep);
@@ -118,4 +119,52 @@ TEST_CASE("column profiles: a single ring raised over the level-2 surface is dro
   std::vector<float> height;
   profiles.label(s.cloud, steep.data(), level2, p, ground, height);
   CHECK(ground == std::vector<std::uint8_t>{1, 1, 1, 0, 1});
+}
+
+TEST_CASE("column profiles: past a car the ground resumes at a gentle slope, not on its roof",
+          "[detector][profiles]") {
+  for (const bool roof : {false, true}) {
+    Scan s;
+    // One column: ground at 6 m; a car side at 8 m (rings 1-3); ring 4 either the car's
+    // roof at 9.5 m, 1.5 m up, or terrain rising at 0.05 from the last ground: 0.7 m up at
+    // 20 m, more than the 0.25 + 0.03 x 14 m allowed past an obstacle.
+    add(s, 0, 0, 6.f, 0.f, 1);
+    for (int ring = 1; ring <= 3; ++ring) add(s, ring, 0, 8.f, 0.3f * static_cast<float>(ring), 2);
+    if (roof)
+      add(s, 4, 0, 9.5f, 1.5f, 2);
+    else
+      add(s, 4, 0, 20.f, 0.7f, 1);
+    std::vector<std::uint8_t> steep;
+    mark_steep(s.cloud, steep);
+    const std::vector<float> level2(s.cloud.size(), 0.f);
+    ProfileParams p;
+    p.sensor_z = 1.8f;
+    ColumnProfiles profiles;
+    std::vector<std::uint8_t> ground;
+    std::vector<float> height;
+    profiles.label(s.cloud, steep.data(), level2, p, ground, height);
+    INFO(roof);
+    CHECK(ground == std::vector<std::uint8_t>{1, 0, 0, 0, roof ? std::uint8_t{0} : std::uint8_t{1}});
+  }
+}
+
+TEST_CASE("column profiles: a canopy in front of ground already walked is not ground",
+          "[detector][profiles]") {
+  Scan s;
+  // One column rising gently out to 40 m, then the top ring hits a tree crown at 8 m,
+  // level with the far ground: compared with the profile at 8 m it is 2.8 m up.
+  const float r[] = {6.f, 10.f, 20.f, 40.f}, z[] = {0.f, 0.2f, 1.f, 3.f};
+  for (int ring = 0; ring < 4; ++ring) add(s, ring, 0, r[ring], z[ring], 1);
+  add(s, 4, 0, 8.f, 2.9f, 2);
+  std::vector<std::uint8_t> steep;
+  mark_steep(s.cloud, steep);
+  const std::vector<float> level2(s.cloud.size(), 0.f);
+  ProfileParams p;
+  p.sensor_z = 1.8f;
+  ColumnProfiles profiles;
+  std::vector<std::uint8_t> ground;
+  std::vector<float> height;
+  profiles.label(s.cloud, steep.data(), level2, p, ground, height);
+  CHECK(ground == std::vector<std::uint8_t>{1, 1, 1, 1, 0});
+  CHECK(height[4] == Approx(2.8f).margin(0.01f));
 }
