@@ -10,14 +10,15 @@ using Index = std::size_t;
 }  // namespace
 
 void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
-                           const std::vector<float>& level2_height, const ProfileParams& params,
+                           const std::vector<float>& level2_height,
+                           const std::vector<float>& plane_height, const ProfileParams& params,
                            std::vector<std::uint8_t>& ground, std::vector<float>& height) {
   p_ = params;
   ground.assign(cloud.size(), 0);
   height.assign(cloud.size(), std::nanf(""));
   sort_by_column(cloud);
   for (Index c = 0; c + 1 < column_start_.size(); ++c) {
-    walk_column(cloud, steep, column_start_[c], column_start_[c + 1], ground, height);
+    walk_column(cloud, steep, plane_height, column_start_[c], column_start_[c + 1], ground, height);
     check_single_rises(steep, column_start_[c], column_start_[c + 1], level2_height, ground);
   }
   drop_silhouettes(cloud, ground);
@@ -124,7 +125,8 @@ float ColumnProfiles::profile_at(float r) const {
 
 // One column outwards from the sensor. The profile is the last ground return (r, z) and
 // the gradient dz/dr along the column, starting at the ground under the sensor.
-void ColumnProfiles::walk_column(const Cloud& cloud, const std::uint8_t* steep, Index begin,
+void ColumnProfiles::walk_column(const Cloud& cloud, const std::uint8_t* steep,
+                                 const std::vector<float>& plane_height, Index begin,
                                  Index end, std::vector<std::uint8_t>& ground,
                                  std::vector<float>& height) {
   if (begin == end) return;
@@ -146,7 +148,11 @@ void ColumnProfiles::walk_column(const Cloud& cloud, const std::uint8_t* steep, 
     const float over = advance >= 0.f ? z - (last_z + gradient * advance) : z - profile_at(r);
     height[i] = over;
     if (steep[i] != 0) {  // a wall, a car side, a pole
-      ground[i] = std::abs(over) < p_.steep_band_m;
+      // (or of a level-1 plane that explains its cell: the foot of a wall on a slope)
+      // (before the column's first ground return the profile is only the start's guess)
+      ground[i] = std::abs(over) < p_.steep_band_m ||
+                  (std::abs(plane_height[i]) < p_.steep_band_m &&
+                   (std::abs(over) < p_.plane_foot_m || profile_size_ == 1));
       blocked = true;
       continue;
     }
@@ -169,6 +175,8 @@ void ColumnProfiles::walk_column(const Cloud& cloud, const std::uint8_t* steep, 
       accept = std::abs(step) <= p_.max_gradient && (over <= rise || resumes);
       next_gradient = std::clamp(step, gradient - p_.gradient_step, gradient + p_.gradient_step);
     }
+    // Past an obstacle, a return on a level-1 plane that explains its cell is ground too.
+    if (!accept && blocked && std::abs(plane_height[i]) <= p_.plane_band_m) accept = true;
     if (!accept) {
       blocked = true;
       continue;

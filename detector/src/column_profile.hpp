@@ -40,6 +40,12 @@ struct ProfileParams {
   // ground return before or after it in its column is raised too (a bank rises over
   // several rings; a fence or a box side is one ring line).
   float single_rise_m = 0.3f;
+  // Past an obstacle a return this close to a level-1 plane that explains its cell is ground
+  // (the plane is trusted where it explains the ground; the cells' own fits are not).
+  float plane_band_m = 0.1f;
+  // A steep return within steep_band_m of such a plane and this close to the profile is
+  // the foot of a wall on ground the profile does not quite follow (a slope).
+  float plane_foot_m = 0.5f;
   // Runs along a ring: neighbours at most run_column_gap columns and run_gap_m +
   // run_gap_per_m x range apart are continuous; a run no longer than silhouette_max_m
   // with both ends open (no return over sky_columns columns, or the next return farther
@@ -54,14 +60,16 @@ class ColumnProfiles {
  public:
   /// Labels every cloud point by its column's profile: ground[i] (0/1) and height[i] over
   /// the profile. `level2_height` is each point's height over the level-2 surface (NaN:
-  /// none). Allocates nothing once the buffers have grown to the largest frame.
+  /// none); `plane_height` the same where that surface is a level-1 plane explaining its
+  /// cell (NaN elsewhere). Allocates nothing once the buffers have grown to the largest frame.
   void label(const Cloud& cloud, const std::uint8_t* steep, const std::vector<float>& level2_height,
-             const ProfileParams& params, std::vector<std::uint8_t>& ground,
-             std::vector<float>& height);
+             const std::vector<float>& plane_height, const ProfileParams& params,
+             std::vector<std::uint8_t>& ground, std::vector<float>& height);
 
  private:
   void sort_by_column(const Cloud& cloud);
-  void walk_column(const Cloud& cloud, const std::uint8_t* steep, std::size_t begin,
+  void walk_column(const Cloud& cloud, const std::uint8_t* steep,
+                   const std::vector<float>& plane_height, std::size_t begin,
                    std::size_t end, std::vector<std::uint8_t>& ground, std::vector<float>& height);
   void check_single_rises(const std::uint8_t* steep, std::size_t begin, std::size_t end,
                           const std::vector<float>& level2_height,

@@ -270,7 +270,12 @@ class TangentMethod final : public Method {
     pp.label_up_m = label_up_;
     pp.label_down_m = label_down_;
     pp.steep_band_m = steep_up_;
-    profiles_.label(cloud, steep_.data(), height_, pp, profile_ground_, profile_height_);
+    plane_height_.resize(cloud.size());
+    for (Index i = 0; i < cloud.size(); ++i) {
+      plane_height_[i] = cells_.replaced_at(cloud.x[i], cloud.y[i]) ? std::nanf("") : height_[i];
+    }
+    profiles_.label(cloud, steep_.data(), height_, plane_height_, pp, profile_ground_,
+                    profile_height_);
     std::copy(profile_ground_.begin(), profile_ground_.end(), ground_.begin());
     std::copy(profile_height_.begin(), profile_height_.end(), height_.begin());
   }
@@ -326,7 +331,7 @@ class TangentMethod final : public Method {
   TerrainCells cells_;
   ColumnProfiles profiles_;
   std::vector<std::uint8_t> profile_ground_;
-  std::vector<float> profile_height_;
+  std::vector<float> profile_height_, plane_height_;
   bool own_[4] = {false, false, false, false};
   std::vector<std::uint8_t> support_, ground_;
   std::vector<float> height_;

@@ -79,7 +79,7 @@ TEST_CASE("column profiles follow a bank, a levee's fields and stop at walls and
   ColumnProfiles profiles;
   std::vector<std::uint8_t> ground;
   std::vector<float> height;
-  profiles.label(scan.cloud, steep.data(), level2, p, ground, height);
+  profiles.label(scan.cloud, steep.data(), level2, level2, p, ground, height);
 
   int bank = 0, fields = 0;
   for (std::size_t i = 0; i < scan.cloud.size(); ++i) {
@@ -112,12 +112,13 @@ TEST_CASE("column profiles: a single ring raised over the level-2 surface is dro
   std::vector<std::uint8_t> steep;
   mark_steep(s.cloud, steep);
   std::vector<float> level2(s.cloud.z.begin(), s.cloud.z.end());
+  const std::vector<float> none(s.cloud.size(), std::nanf(""));
   ProfileParams p;
   p.sensor_z = 1.8f;
   ColumnProfiles profiles;
   std::vector<std::uint8_t> ground;
   std::vector<float> height;
-  profiles.label(s.cloud, steep.data(), level2, p, ground, height);
+  profiles.label(s.cloud, steep.data(), level2, none, p, ground, height);
   CHECK(ground == std::vector<std::uint8_t>{1, 1, 1, 0, 1});
 }
 
@@ -136,13 +137,13 @@ TEST_CASE("column profiles: past a car the ground resumes at a gentle slope, not
       add(s, 4, 0, 20.f, 0.7f, 1);
     std::vector<std::uint8_t> steep;
     mark_steep(s.cloud, steep);
-    const std::vector<float> level2(s.cloud.size(), 0.f);
+    const std::vector<float> level2(s.cloud.size(), 0.f), none(s.cloud.size(), std::nanf(""));
     ProfileParams p;
     p.sensor_z = 1.8f;
     ColumnProfiles profiles;
     std::vector<std::uint8_t> ground;
     std::vector<float> height;
-    profiles.label(s.cloud, steep.data(), level2, p, ground, height);
+    profiles.label(s.cloud, steep.data(), level2, none, p, ground, height);
     INFO(roof);
     CHECK(ground == std::vector<std::uint8_t>{1, 0, 0, 0, roof ? std::uint8_t{0} : std::uint8_t{1}});
   }
@@ -158,13 +159,39 @@ TEST_CASE("column profiles: a canopy in front of ground already walked is not gr
   add(s, 4, 0, 8.f, 2.9f, 2);
   std::vector<std::uint8_t> steep;
   mark_steep(s.cloud, steep);
-  const std::vector<float> level2(s.cloud.size(), 0.f);
+  const std::vector<float> level2(s.cloud.size(), 0.f), none(s.cloud.size(), std::nanf(""));
   ProfileParams p;
   p.sensor_z = 1.8f;
   ColumnProfiles profiles;
   std::vector<std::uint8_t> ground;
   std::vector<float> height;
-  profiles.label(s.cloud, steep.data(), level2, p, ground, height);
+  profiles.label(s.cloud, steep.data(), level2, none, p, ground, height);
   CHECK(ground == std::vector<std::uint8_t>{1, 1, 1, 1, 0});
   CHECK(height[4] == Approx(2.8f).margin(0.01f));
+}
+
+TEST_CASE("column profiles: past an obstacle a level-1 plane that explains its cell is trusted",
+          "[detector][profiles]") {
+  for (const bool on_plane : {false, true}) {
+    Scan s;
+    // Ground at 6 m, a car side at 8 m, then ground at 20 m 1.0 m up: too steep a resume
+    // (0.07 from the last ground return) and over the allowance past an obstacle, unless a
+    // level-1 plane that explains its cell runs through it.
+    add(s, 0, 0, 6.f, 0.f, 1);
+    for (int ring = 1; ring <= 3; ++ring) add(s, ring, 0, 8.f, 0.3f * static_cast<float>(ring), 2);
+    add(s, 4, 0, 20.f, 1.0f, 1);
+    std::vector<std::uint8_t> steep;
+    mark_steep(s.cloud, steep);
+    const std::vector<float> level2(s.cloud.size(), 0.f);
+    std::vector<float> plane(s.cloud.size(), std::nanf(""));
+    if (on_plane) plane[4] = 0.05f;
+    ProfileParams p;
+    p.sensor_z = 1.8f;
+    ColumnProfiles profiles;
+    std::vector<std::uint8_t> ground;
+    std::vector<float> height;
+    profiles.label(s.cloud, steep.data(), level2, plane, p, ground, height);
+    INFO(on_plane);
+    CHECK(ground[4] == (on_plane ? 1 : 0));
+  }
 }
