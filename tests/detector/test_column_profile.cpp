@@ -66,20 +66,42 @@ Scan make_scan() {
   return s;
 }
 
+struct Labels {
+  std::vector<std::uint8_t> ground;
+  std::vector<float> height;
+};
+
+// Labels a scan with the mounting height known; `level2` and `plane` default to a level-2
+// surface at z = 0 and no trusted level-1 plane.
+Labels label(const Scan& s, std::vector<float> level2 = {}, std::vector<float> plane = {}) {
+  if (level2.empty()) level2.assign(s.cloud.size(), 0.f);
+  if (plane.empty()) plane.assign(s.cloud.size(), std::nanf(""));
+  std::vector<std::uint8_t> steep;
+  mark_steep(s.cloud, steep);
+  ProfileParams p;
+  p.sensor_z = 1.8f;  // mounting height known: the ground under the sensor is z = 0
+  ColumnProfiles profiles;
+  Labels out;
+  profiles.label(s.cloud, steep.data(), level2, plane, p, out.ground, out.height);
+  return out;
+}
+
+// Ground at 6 m, a car side at 8 m (rings 1-3), then ring 4 at (r, z).
+Scan car_then(float r, float z, int truth) {
+  Scan s;
+  add(s, 0, 0, 6.f, 0.f, 1);
+  for (int ring = 1; ring <= 3; ++ring) add(s, ring, 0, 8.f, 0.3f * static_cast<float>(ring), 2);
+  add(s, 4, 0, r, z, truth);
+  return s;
+}
+
 }  // namespace
 
 TEST_CASE("column profiles follow a bank, a levee's fields and stop at walls and boxes",
           "[detector][profiles]") {
   const Scan scan = make_scan();
-  std::vector<std::uint8_t> steep;
-  mark_steep(scan.cloud, steep);
-  ProfileParams p;
-  p.sensor_z = 1.8f;  // mounting height known: the ground under the sensor is z = 0
-  const std::vector<float> level2(scan.cloud.size(), std::nanf(""));
-  ColumnProfiles profiles;
-  std::vector<std::uint8_t> ground;
-  std::vector<float> height;
-  profiles.label(scan.cloud, steep.data(), level2, level2, p, ground, height);
+  const std::vector<float> none(scan.cloud.size(), std::nanf(""));
+  const auto [ground, height] = label(scan, none, none);
 
   int bank = 0, fields = 0;
   for (std::size_t i = 0; i < scan.cloud.size(); ++i) {
@@ -109,44 +131,15 @@ TEST_CASE("column profiles: a single ring raised over the level-2 surface is dro
     const bool fence = ring == 3;
     add(s, ring, 0, ring_range(ring), fence ? 0.38f : 0.f, fence ? 2 : 1);
   }
-  std::vector<std::uint8_t> steep;
-  mark_steep(s.cloud, steep);
-  std::vector<float> level2(s.cloud.z.begin(), s.cloud.z.end());
-  const std::vector<float> none(s.cloud.size(), std::nanf(""));
-  ProfileParams p;
-  p.sensor_z = 1.8f;
-  ColumnProfiles profiles;
-  std::vector<std::uint8_t> ground;
-  std::vector<float> height;
-  profiles.label(s.cloud, steep.data(), level2, none, p, ground, height);
-  CHECK(ground == std::vector<std::uint8_t>{1, 1, 1, 0, 1});
+  CHECK(label(s, s.cloud.z).ground == std::vector<std::uint8_t>{1, 1, 1, 0, 1});
 }
 
 TEST_CASE("column profiles: past a car the ground resumes at a gentle slope, not on its roof",
           "[detector][profiles]") {
-  for (const bool roof : {false, true}) {
-    Scan s;
-    // One column: ground at 6 m; a car side at 8 m (rings 1-3); ring 4 either the car's
-    // roof at 9.5 m, 1.5 m up, or terrain rising at 0.05 from the last ground: 0.7 m up at
-    // 20 m, more than the 0.25 + 0.03 x 14 m allowed past an obstacle.
-    add(s, 0, 0, 6.f, 0.f, 1);
-    for (int ring = 1; ring <= 3; ++ring) add(s, ring, 0, 8.f, 0.3f * static_cast<float>(ring), 2);
-    if (roof)
-      add(s, 4, 0, 9.5f, 1.5f, 2);
-    else
-      add(s, 4, 0, 20.f, 0.7f, 1);
-    std::vector<std::uint8_t> steep;
-    mark_steep(s.cloud, steep);
-    const std::vector<float> level2(s.cloud.size(), 0.f), none(s.cloud.size(), std::nanf(""));
-    ProfileParams p;
-    p.sensor_z = 1.8f;
-    ColumnProfiles profiles;
-    std::vector<std::uint8_t> ground;
-    std::vector<float> height;
-    profiles.label(s.cloud, steep.data(), level2, none, p, ground, height);
-    INFO(roof);
-    CHECK(ground == std::vector<std::uint8_t>{1, 0, 0, 0, roof ? std::uint8_t{0} : std::uint8_t{1}});
-  }
+  // Ring 4 either the car's roof at 9.5 m, 1.5 m up, or terrain rising at 0.05 from the
+  // last ground: 0.7 m up at 20 m, more than the 0.25 + 0.03 x 14 m allowed past an obstacle.
+  CHECK(label(car_then(9.5f, 1.5f, 2)).ground == std::vector<std::uint8_t>{1, 0, 0, 0, 0});
+  CHECK(label(car_then(20.f, 0.7f, 1)).ground == std::vector<std::uint8_t>{1, 0, 0, 0, 1});
 }
 
 TEST_CASE("column profiles: a canopy in front of ground already walked is not ground",
@@ -157,41 +150,19 @@ TEST_CASE("column profiles: a canopy in front of ground already walked is not gr
   const float r[] = {6.f, 10.f, 20.f, 40.f}, z[] = {0.f, 0.2f, 1.f, 3.f};
   for (int ring = 0; ring < 4; ++ring) add(s, ring, 0, r[ring], z[ring], 1);
   add(s, 4, 0, 8.f, 2.9f, 2);
-  std::vector<std::uint8_t> steep;
-  mark_steep(s.cloud, steep);
-  const std::vector<float> level2(s.cloud.size(), 0.f), none(s.cloud.size(), std::nanf(""));
-  ProfileParams p;
-  p.sensor_z = 1.8f;
-  ColumnProfiles profiles;
-  std::vector<std::uint8_t> ground;
-  std::vector<float> height;
-  profiles.label(s.cloud, steep.data(), level2, none, p, ground, height);
+  const auto [ground, height] = label(s);
   CHECK(ground == std::vector<std::uint8_t>{1, 1, 1, 1, 0});
   CHECK(height[4] == Approx(2.8f).margin(0.01f));
 }
 
 TEST_CASE("column profiles: past an obstacle a level-1 plane that explains its cell is trusted",
           "[detector][profiles]") {
-  for (const bool on_plane : {false, true}) {
-    Scan s;
-    // Ground at 6 m, a car side at 8 m, then ground at 20 m 1.0 m up: too steep a resume
-    // (0.07 from the last ground return) and over the allowance past an obstacle, unless a
-    // level-1 plane that explains its cell runs through it.
-    add(s, 0, 0, 6.f, 0.f, 1);
-    for (int ring = 1; ring <= 3; ++ring) add(s, ring, 0, 8.f, 0.3f * static_cast<float>(ring), 2);
-    add(s, 4, 0, 20.f, 1.0f, 1);
-    std::vector<std::uint8_t> steep;
-    mark_steep(s.cloud, steep);
-    const std::vector<float> level2(s.cloud.size(), 0.f);
-    std::vector<float> plane(s.cloud.size(), std::nanf(""));
-    if (on_plane) plane[4] = 0.05f;
-    ProfileParams p;
-    p.sensor_z = 1.8f;
-    ColumnProfiles profiles;
-    std::vector<std::uint8_t> ground;
-    std::vector<float> height;
-    profiles.label(s.cloud, steep.data(), level2, plane, p, ground, height);
-    INFO(on_plane);
-    CHECK(ground[4] == (on_plane ? 1 : 0));
-  }
+  // Ground at 20 m 1.0 m up past the car: too steep a resume (0.07 from the last ground
+  // return) and over the allowance past an obstacle, unless a level-1 plane that explains
+  // its cell runs through it.
+  const Scan s = car_then(20.f, 1.0f, 1);
+  CHECK(label(s).ground[4] == 0);
+  std::vector<float> plane(s.cloud.size(), std::nanf(""));
+  plane[4] = 0.05f;
+  CHECK(label(s, {}, plane).ground[4] == 1);
 }
