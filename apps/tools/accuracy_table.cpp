@@ -29,13 +29,14 @@ struct Method {
   const char* name;
   vlpground::GroundMethod detector_method;
   bool refinement;
-  bool profiles = false;
+  bool profiles;
 };
-constexpr Method kMethods[] = {{"tangent", vlpground::GroundMethod::tangent, true},
-                               {"tangent-profiles", vlpground::GroundMethod::tangent, true, true},
-                               {"tangent-paper", vlpground::GroundMethod::tangent, false},
-                               {"ransac", vlpground::GroundMethod::ransac, false},
-                               {"lpr", vlpground::GroundMethod::lpr, false}};
+constexpr Method kMethods[] = {
+    {"tangent", vlpground::GroundMethod::tangent, true, true},
+    {"tangent-cells", vlpground::GroundMethod::tangent, true, false},
+    {"tangent-paper", vlpground::GroundMethod::tangent, false, false},
+    {"ransac", vlpground::GroundMethod::ransac, false, false},
+    {"lpr", vlpground::GroundMethod::lpr, false, false}};
 
 std::vector<fs::path> labelled_captures(const fs::path& dir) {
   std::vector<fs::path> out;
@@ -105,10 +106,11 @@ void print_preamble(const std::string& sources, int frames, const std::string& r
         "the largest share of high obstacles labelled ground).\n\n");
   std::printf(
       "Methods: `tangent` is the default: the paper's detector (tangent-verified RANSAC over "
-      "a searched cross partition) with terrain refinement (`DetectorConfig::"
-      "terrain_refinement`, docs/detector.md); `tangent-profiles` adds the column profiles "
-      "(`column_profiles = true`, off by default); `tangent-paper` is the paper's detector "
-      "alone (`terrain_refinement = false`); `ransac` is vanilla single-plane RANSAC (200 "
+      "a searched cross partition) with terrain refinement and column profiles "
+      "(`DetectorConfig::terrain_refinement`, `column_profiles`, docs/detector.md); "
+      "`tangent-cells` stops at the refinement's cells (`column_profiles = false`); "
+      "`tangent-paper` is the paper's detector alone (`terrain_refinement = false`); "
+      "`ransac` is vanilla single-plane RANSAC (200 "
       "hypotheses, epsilon 0.2 m, the winner refit by least squares on its inliers); `lpr` is "
       "the ground plane fitting of Zermas et al. 2017 (three equal longitudinal thirds of "
       "[-40, 40] m in x, N_LPR = 20, Th_seeds = 0.4 m, 3 iterations, Th_dist = 0.2 m). Both "
