@@ -14,12 +14,16 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
                            const std::vector<float>& plane_height, const ProfileParams& params,
                            std::vector<std::uint8_t>& ground, std::vector<float>& height) {
   p_ = params;
-  ground.assign(cloud.size(), 0);
-  height.assign(cloud.size(), std::nanf(""));
-  sort_by_column(cloud);
+  gather_by_column(cloud, steep, level2_height, plane_height);
   for (Index c = 0; c + 1 < column_start_.size(); ++c) {
-    walk_column(cloud, steep, plane_height, column_start_[c], column_start_[c + 1], ground, height);
-    check_single_rises(steep, column_start_[c], column_start_[c + 1], level2_height, ground);
+    walk_column(column_start_[c], column_start_[c + 1]);
+    check_single_rises(column_start_[c], column_start_[c + 1]);
+  }
+  ground.resize(cloud.size());
+  height.resize(cloud.size());
+  for (const ColumnPoint& q : points_) {
+    ground[q.index] = q.ground;
+    height[q.index] = q.over;
   }
   drop_silhouettes(cloud, ground);
 }
@@ -75,30 +79,35 @@ bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Ind
          open(b, b + 1, b + 1 < last, columns - 1 - static_cast<int>(cloud.column[b]));
 }
 
-// Counting sort by column; the cloud is in (layer, ring, column) order, so each column's
-// points come out ring-ascending per layer. The layers are then merged by ring and range
-// with an insertion sort (at most 32 points per column).
-void ColumnProfiles::sort_by_column(const Cloud& cloud) {
+// Counting sort by column into points_ (what the walk reads, gathered so that it reads
+// sequentially); the cloud is in (layer, ring, column) order, so each column's points come
+// out ring-ascending per layer. The layers are then merged by ring and range with an
+// insertion sort (at most 32 points per column; nothing moves in single-return frames).
+void ColumnProfiles::gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
+                                      const std::vector<float>& level2_height,
+                                      const std::vector<float>& plane_height) {
   int columns = 0;
   for (Index i = 0; i < cloud.size(); ++i) columns = std::max(columns, cloud.column[i] + 1);
   column_start_.assign(static_cast<Index>(columns) + 1, 0);
   for (Index i = 0; i < cloud.size(); ++i) ++column_start_[cloud.column[i] + 1u];
   for (Index c = 1; c < column_start_.size(); ++c) column_start_[c] += column_start_[c - 1];
   cursor_.assign(column_start_.begin(), column_start_.end() - 1);
-  items_.resize(cloud.size());
+  points_.resize(cloud.size());
   for (Index i = 0; i < cloud.size(); ++i) {
-    items_[cursor_[cloud.column[i]]++] = static_cast<std::uint32_t>(i);
+    ColumnPoint& q = points_[cursor_[cloud.column[i]]++];
+    q = {cloud.range_xy[i], cloud.z[i], level2_height[i], plane_height[i], 0.f,
+         static_cast<std::uint32_t>(i), cloud.ring[i], steep[i], 0};
   }
-  auto before = [&](std::uint32_t u, std::uint32_t w) {
-    return cloud.ring[u] != cloud.ring[w] ? cloud.ring[u] < cloud.ring[w]
-                                          : cloud.range_xy[u] < cloud.range_xy[w];
+  auto before = [](const ColumnPoint& u, const ColumnPoint& w) {
+    return u.ring != w.ring ? u.ring < w.ring : u.r < w.r;
   };
   for (Index c = 0; c + 1 < column_start_.size(); ++c) {
-    std::uint32_t* first = items_.data() + column_start_[c];
-    std::uint32_t* last = items_.data() + column_start_[c + 1];
-    for (std::uint32_t* a = first + 1; a < last; ++a) {
-      const std::uint32_t v = *a;
-      std::uint32_t* b = a;
+    ColumnPoint* first = points_.data() + column_start_[c];
+    ColumnPoint* last = points_.data() + column_start_[c + 1];
+    for (ColumnPoint* a = first + 1; a < last; ++a) {
+      if (!before(*a, *(a - 1))) continue;
+      const ColumnPoint v = *a;
+      ColumnPoint* b = a;
       for (; b > first && before(v, *(b - 1)); --b) *b = *(b - 1);
       *b = v;
     }
@@ -125,10 +134,7 @@ float ColumnProfiles::profile_at(float r) const {
 
 // One column outwards from the sensor. The profile is the last ground return (r, z) and
 // the gradient dz/dr along the column, starting at the ground under the sensor.
-void ColumnProfiles::walk_column(const Cloud& cloud, const std::uint8_t* steep,
-                                 const std::vector<float>& plane_height, Index begin,
-                                 Index end, std::vector<std::uint8_t>& ground,
-                                 std::vector<float>& height) {
+void ColumnProfiles::walk_column(Index begin, Index end) {
   if (begin == end) return;
   // The profile starts level under the sensor: at z = 0 when the mounting height is known
   // (the vehicle frame's ground), else on the vehicle's surface. Starting with that
@@ -140,24 +146,24 @@ void ColumnProfiles::walk_column(const Cloud& cloud, const std::uint8_t* steep,
   profile_size_ = 0;
   add_to_profile(last_r, last_z);
   for (Index k = begin; k < end; ++k) {
-    const Index i = items_[k];
-    const float r = cloud.range_xy[i], z = cloud.z[i];
+    ColumnPoint& q = points_[k];
+    const float r = q.r, z = q.z;
     const float advance = r - last_r;
     // Beyond the last ground return the profile is extrapolated; nearer (a canopy or a
     // wall seen by a higher ring in front of ground already walked), it is interpolated.
     const float over = advance >= 0.f ? z - (last_z + gradient * advance) : z - profile_at(r);
-    height[i] = over;
-    if (steep[i] != 0) {  // a wall, a car side, a pole
+    q.over = over;
+    if (q.steep != 0) {  // a wall, a car side, a pole
       // (or of a level-1 plane that explains its cell: the foot of a wall on a slope)
       // (before the column's first ground return the profile is only the start's guess)
-      ground[i] = std::abs(over) < p_.steep_band_m ||
-                  (std::abs(plane_height[i]) < p_.steep_band_m &&
-                   (std::abs(over) < p_.plane_foot_m || profile_size_ == 1));
+      q.ground = std::abs(over) < p_.steep_band_m ||
+                 (std::abs(q.plane_h) < p_.steep_band_m &&
+                  (std::abs(over) < p_.plane_foot_m || profile_size_ == 1));
       blocked = true;
       continue;
     }
     if (advance < p_.min_advance_m) {  // over or under ground already walked
-      ground[i] = over > -p_.label_down_m && over < p_.label_up_m;
+      q.ground = over > -p_.label_down_m && over < p_.label_up_m;
       continue;
     }
     const float step = (z - last_z) / advance;  // gradient from the last ground return
@@ -176,12 +182,12 @@ void ColumnProfiles::walk_column(const Cloud& cloud, const std::uint8_t* steep,
       next_gradient = std::clamp(step, gradient - p_.gradient_step, gradient + p_.gradient_step);
     }
     // Past an obstacle, a return on a level-1 plane that explains its cell is ground too.
-    if (!accept && blocked && std::abs(plane_height[i]) <= p_.plane_band_m) accept = true;
+    if (!accept && blocked && std::abs(q.plane_h) <= p_.plane_band_m) accept = true;
     if (!accept) {
       blocked = true;
       continue;
     }
-    ground[i] = 1;
+    q.ground = 1;
     last_r = r;
     last_z = z;
     add_to_profile(r, z);
@@ -193,24 +199,21 @@ void ColumnProfiles::walk_column(const Cloud& cloud, const std::uint8_t* steep,
 // A ground return raised over the level-2 surface needs a raised ground neighbour in its
 // column (the ground return before or after it along the profile; a return on a steep
 // surface taken for the foot of a wall does not count).
-void ColumnProfiles::check_single_rises(const std::uint8_t* steep, Index begin, Index end,
-                                        const std::vector<float>& level2_height,
-                                        std::vector<std::uint8_t>& ground) const {
-  auto raised = [&](Index i, float by) {
-    const float h = level2_height[i];
+void ColumnProfiles::check_single_rises(Index begin, Index end) {
+  auto raised = [&](Index k, float by) {
+    const float h = points_[k].level2_h;
     return std::isfinite(h) && h > by;
   };
-  auto neighbour = [&](Index k) { return ground[items_[k]] != 0 && steep[items_[k]] == 0; };
-  Index previous = end;  // previous ground return of the column (position in items_)
+  auto neighbour = [&](Index k) { return points_[k].ground != 0 && points_[k].steep == 0; };
+  Index previous = end;  // previous ground return of the column
   for (Index k = begin; k < end; ++k) {
-    const Index i = items_[k];
     if (!neighbour(k)) continue;
-    if (raised(i, p_.single_rise_m)) {
+    if (raised(k, p_.single_rise_m)) {
       Index next = k + 1;
       while (next < end && !neighbour(next)) ++next;
-      const bool before = previous < end && raised(items_[previous], 0.5f * p_.single_rise_m);
-      const bool after = next < end && raised(items_[next], 0.5f * p_.single_rise_m);
-      if (!before && !after) ground[i] = 0;
+      const bool before = previous < end && raised(previous, 0.5f * p_.single_rise_m);
+      const bool after = next < end && raised(next, 0.5f * p_.single_rise_m);
+      if (!before && !after) points_[k].ground = 0;
     }
     previous = k;
   }

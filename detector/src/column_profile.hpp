@@ -67,14 +67,18 @@ class ColumnProfiles {
              std::vector<std::uint8_t>& ground, std::vector<float>& height);
 
  private:
-  void sort_by_column(const Cloud& cloud);
-  void walk_column(const Cloud& cloud, const std::uint8_t* steep,
-                   const std::vector<float>& plane_height, std::size_t begin,
-                   std::size_t end, std::vector<std::uint8_t>& ground, std::vector<float>& height);
-  void check_single_rises(const std::uint8_t* steep, std::size_t begin, std::size_t end,
-                          const std::vector<float>& level2_height,
-                          std::vector<std::uint8_t>& ground) const;
-
+  // A return as the walk sees it, gathered in column order.
+  struct ColumnPoint {
+    float r, z, level2_h, plane_h, over;
+    std::uint32_t index;  // cloud point
+    std::uint16_t ring;
+    std::uint8_t steep, ground;
+  };
+  void gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
+                        const std::vector<float>& level2_height,
+                        const std::vector<float>& plane_height);
+  void walk_column(std::size_t begin, std::size_t end);
+  void check_single_rises(std::size_t begin, std::size_t end);
   void drop_silhouettes(const Cloud& cloud, std::vector<std::uint8_t>& ground) const;
   [[nodiscard]] bool continuous(const Cloud& cloud, std::size_t a, std::size_t b) const;
   [[nodiscard]] bool stands_out(const Cloud& cloud, std::size_t first, std::size_t last,
@@ -86,7 +90,8 @@ class ColumnProfiles {
   // The ground returns walked in the current column (the start under the sensor first).
   std::array<float, 2 * kLasers + 1> profile_r_{}, profile_z_{};
   std::size_t profile_size_ = 0;
-  std::vector<std::uint32_t> column_start_, cursor_, items_;
+  std::vector<std::uint32_t> column_start_, cursor_;
+  std::vector<ColumnPoint> points_;
 };
 
 }  // namespace vlpground::detail

@@ -270,9 +270,12 @@ class TangentMethod final : public Method {
     pp.label_up_m = label_up_;
     pp.label_down_m = label_down_;
     pp.steep_band_m = steep_up_;
+    // Heights over a level-1 plane that explains its cell (fitting area only).
+    const std::vector<std::int32_t>& bin = binning_.point_bin();
     plane_height_.resize(cloud.size());
     for (Index i = 0; i < cloud.size(); ++i) {
-      plane_height_[i] = cells_.replaced_at(cloud.x[i], cloud.y[i]) ? std::nanf("") : height_[i];
+      const bool trusted = bin[i] >= 0 && !cells_.replaced_bin(bin[i]);
+      plane_height_[i] = trusted ? height_[i] : std::nanf("");
     }
     profiles_.label(cloud, steep_.data(), height_, plane_height_, pp, profile_ground_,
                     profile_height_);

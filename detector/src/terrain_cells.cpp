@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "hypotheses.hpp"
+#include "vlpground_internal/vector_clones.hpp"
 
 namespace vlpground::detail {
 
@@ -173,13 +174,6 @@ struct TerrainCells::Fit {
     }
   }
 };
-
-bool TerrainCells::replaced_at(float x, float y) const {
-  const float gx = (x - p_.x_lo) / p_.bin_m, gy = (y - p_.y_lo) / p_.bin_m;
-  const auto bins = static_cast<float>(p_.bins);
-  if (!(gx >= 0.f && gy >= 0.f && gx < bins && gy < bins) || replace_.empty()) return false;
-  return replace_[idx(cell_of(x, y))] != 0;
-}
 
 bool TerrainCells::near_vehicle(int cell) const {
   const Fit f(p_, side_, cell);
@@ -377,17 +371,40 @@ bool TerrainCells::fit_layer(int cell, const Candidates& cand,
 }
 
 // Eq. 3 inliers of `p` among the near candidates.
-int TerrainCells::near_inliers(const Candidates& cand, const Plane& p, PlaneFit* fit) const {
+namespace {
+
+// Score of plane p on the returns around the sensor (gathered in near_pts_): eq. 3 inliers
+// less kBelowPenalty per return more than kBelow_m under it. Branchless, vectorised.
+VLPGROUND_VECTOR_CLONES
+int near_score(const float* __restrict x, const float* __restrict y, const float* __restrict z,
+               const float* __restrict tx, const float* __restrict ty,
+               const float* __restrict tz, Index n, const Plane p, float eps, float sin_delta) {
   int count = 0;
-  for (const std::int32_t k : near_) {
-    const Index i = idx(k);
-    if (p.nx * cand.x[i] + p.ny * cand.y[i] + p.nz * cand.z[i] + p.d < -kBelow_m)
-      count -= kBelowPenalty;
-    if (!eq3_inlier(p, cand.x[i], cand.y[i], cand.z[i], cand.tx[i], cand.ty[i], cand.tz[i], p_.eps,
-                    p_.sin_delta))
+  for (Index i = 0; i < n; ++i) {
+    const float dist = p.nx * x[i] + p.ny * y[i] + p.nz * z[i] + p.d;
+    const float dot = p.nx * tx[i] + p.ny * ty[i] + p.nz * tz[i];
+    const bool inlier = (absolute(dist) < eps) & (absolute(dot) < sin_delta);
+    count += static_cast<int>(inlier) - kBelowPenalty * static_cast<int>(dist < -kBelow_m);
+  }
+  return count;
+}
+
+}  // namespace
+
+int TerrainCells::near_inliers(const Plane& p, PlaneFit* fit) const {
+  const NearPoints& q = near_pts_;
+  if (fit == nullptr) {
+    return near_score(q.x.data(), q.y.data(), q.z.data(), q.tx.data(), q.ty.data(), q.tz.data(),
+                      q.x.size(), p, p_.eps, p_.sin_delta);
+  }
+  int count = 0;
+  for (Index i = 0; i < q.x.size(); ++i) {
+    const float dist = p.nx * q.x[i] + p.ny * q.y[i] + p.nz * q.z[i] + p.d;
+    if (dist < -kBelow_m) count -= kBelowPenalty;
+    if (!eq3_inlier(p, q.x[i], q.y[i], q.z[i], q.tx[i], q.ty[i], q.tz[i], p_.eps, p_.sin_delta))
       continue;
     ++count;
-    if (fit != nullptr) fit->add(cand.x[i], cand.y[i], cand.z[i]);
+    fit->add(q.x[i], q.y[i], q.z[i]);
   }
   return count;
 }
@@ -414,8 +431,7 @@ bool TerrainCells::at_mounting_height(const Plane& p) const {
 HeightPlane TerrainCells::vehicle_seed(const Candidates& cand,
                                        const std::vector<std::int32_t>& bin_slot,
                                        const Plane& level1) {
-  near_.clear();
-  near_.reserve(cand.x.size());  // grows with the largest frame only
+  near_pts_.clear();  // buffers grow with the largest frame only
   const int reach = static_cast<int>(std::ceil(p_.near_m / p_.bin_m));
   const int sc = std::clamp(static_cast<int>((p_.sensor_x - p_.x_lo) / p_.bin_m), 0, p_.bins - 1);
   const int sr = std::clamp(static_cast<int>((p_.sensor_y - p_.y_lo) / p_.bin_m), 0, p_.bins - 1);
@@ -427,28 +443,29 @@ HeightPlane TerrainCells::vehicle_seed(const Candidates& cand,
         const Index i = idx(k);
         const float dx = cand.x[i] - p_.sensor_x, dy = cand.y[i] - p_.sensor_y;
         if (dx * dx + dy * dy <= p_.near_m * p_.near_m && cand.tz[i] != kNoTangentZ)
-          near_.push_back(k);
+          near_pts_.push(cand, i);
       }
     }
   }
-  const int own = plausible_under_sensor(level1) ? near_inliers(cand, level1, nullptr) : 0;
-  if (near_.size() < 3) return HeightPlane::from(level1);
+  const int own = plausible_under_sensor(level1) ? near_inliers(level1, nullptr) : 0;
+  const Index near = near_pts_.x.size();
+  if (near < 3) return HeightPlane::from(level1);
   Rng rng(p_.seed);
   Plane best{};
   int best_count = -1;
   for (int trial = 0; trial < kNearTrials; ++trial) {
     float pts[3][3];
     for (auto& pt : pts) {
-      const Index i = idx(near_[rng.below(near_.size())]);
-      pt[0] = cand.x[i];
-      pt[1] = cand.y[i];
-      pt[2] = cand.z[i];
+      const Index i = idx(static_cast<std::int32_t>(rng.below(near)));
+      pt[0] = near_pts_.x[i];
+      pt[1] = near_pts_.y[i];
+      pt[2] = near_pts_.z[i];
     }
     Plane h;
     if (!plane_from_points(pts[0], pts[1], pts[2], h, kNearMinArea_m2) ||
         !plausible_under_sensor(h) || !at_mounting_height(h))
       continue;
-    const int count = near_inliers(cand, h, nullptr);
+    const int count = near_inliers(h, nullptr);
     if (count > best_count) {
       best_count = count;
       best = h;
@@ -459,7 +476,7 @@ HeightPlane TerrainCells::vehicle_seed(const Candidates& cand,
     return HeightPlane::from(level1);
   for (int pass = 0; pass < 2; ++pass) {  // least squares on the inliers, twice
     PlaneFit fit;
-    near_inliers(cand, best, &fit);
+    near_inliers(best, &fit);
     Plane refined;
     if (!fit.solve(refined) || !plausible_under_sensor(refined) || !at_mounting_height(refined))
       break;

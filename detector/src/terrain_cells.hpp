@@ -83,8 +83,12 @@ class TerrainCells {
   }
   /// Cells whose surface replaces the level-1 plane in labels.
   [[nodiscard]] int replaced_cells() const { return replaced_; }
-  /// True when (x, y) lies in a cell whose surface replaces the level-1 plane.
-  [[nodiscard]] bool replaced_at(float x, float y) const;
+  /// True when fitting bin `bin` (row * bins + col) lies in a cell whose surface replaces
+  /// the level-1 plane.
+  [[nodiscard]] bool replaced_bin(int bin) const {
+    const int row = bin / p_.bins, col = bin % p_.bins;
+    return replace_[static_cast<std::size_t>((row / p_.cell_bins) * side_ + col / p_.cell_bins)] != 0;
+  }
   /// The surface of the cell under the sensor (valid once a fit replaced a cell).
   [[nodiscard]] const HeightPlane& vehicle_surface() const { return surface_[vehicle_cell_]; }
 
@@ -92,7 +96,7 @@ class TerrainCells {
   struct Fit;
   HeightPlane vehicle_seed(const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
                            const Plane& level1);
-  int near_inliers(const Candidates& cand, const Plane& p, PlaneFit* fit) const;
+  int near_inliers(const Plane& p, PlaneFit* fit) const;
   [[nodiscard]] bool plausible_under_sensor(const Plane& p) const;
   [[nodiscard]] bool at_mounting_height(const Plane& p) const;
   bool fit_cell(int cell, const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
@@ -114,7 +118,23 @@ class TerrainCells {
   std::vector<CellState> state_;
   std::vector<std::uint8_t> replace_;
   bool segment_explained_[4] = {false, false, false, false};
-  std::vector<std::int32_t> queue_, near_, cell_pts_;
+  // Scoring candidates around the sensor with a tangent, gathered for the seed's search.
+  struct NearPoints {
+    std::vector<float> x, y, z, tx, ty, tz;
+    void clear() {
+      for (auto* v : {&x, &y, &z, &tx, &ty, &tz}) v->clear();
+    }
+    void push(const Candidates& c, std::size_t i) {
+      x.push_back(c.x[i]);
+      y.push_back(c.y[i]);
+      z.push_back(c.z[i]);
+      tx.push_back(c.tx[i]);
+      ty.push_back(c.ty[i]);
+      tz.push_back(c.tz[i]);
+    }
+  };
+  NearPoints near_pts_;
+  std::vector<std::int32_t> queue_, cell_pts_;
 };
 
 }  // namespace vlpground::detail
