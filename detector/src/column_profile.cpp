@@ -10,11 +10,10 @@ using Index = std::size_t;
 }  // namespace
 
 void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
-                           const std::vector<float>& level2_height,
                            const std::vector<float>& plane_height, const ProfileParams& params,
                            std::vector<std::uint8_t>& ground, std::vector<float>& height) {
   p_ = params;
-  gather_by_column(cloud, steep, level2_height, plane_height);
+  gather_by_column(cloud, steep, height, plane_height);  // height: over level 2 until here
   for (Index c = 0; c + 1 < column_start_.size(); ++c) {
     walk_column(column_start_[c], column_start_[c + 1]);
     check_single_rises(column_start_[c], column_start_[c + 1]);

@@ -59,11 +59,11 @@ struct ProfileParams {
 class ColumnProfiles {
  public:
   /// Labels every cloud point by its column's profile: ground[i] (0/1) and height[i] over
-  /// the profile. `level2_height` is each point's height over the level-2 surface (NaN:
+  /// the profile. On entry height[i] is the point's height over the level-2 surface (NaN:
   /// none); `plane_height` the same where that surface is a level-1 plane explaining its
   /// cell (NaN elsewhere). Allocates nothing once the buffers have grown to the largest frame.
-  void label(const Cloud& cloud, const std::uint8_t* steep, const std::vector<float>& level2_height,
-             const std::vector<float>& plane_height, const ProfileParams& params,
+  void label(const Cloud& cloud, const std::uint8_t* steep, const std::vector<float>& plane_height,
+             const ProfileParams& params,
              std::vector<std::uint8_t>& ground, std::vector<float>& height);
 
  private:

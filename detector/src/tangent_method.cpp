@@ -277,10 +277,7 @@ class TangentMethod final : public Method {
       const bool trusted = bin[i] >= 0 && !cells_.replaced_bin(bin[i]);
       plane_height_[i] = trusted ? height_[i] : std::nanf("");
     }
-    profiles_.label(cloud, steep_.data(), height_, plane_height_, pp, profile_ground_,
-                    profile_height_);
-    std::copy(profile_ground_.begin(), profile_ground_.end(), ground_.begin());
-    std::copy(profile_height_.begin(), profile_height_.end(), height_.begin());
+    profiles_.label(cloud, steep_.data(), plane_height_, pp, ground_, height_);
   }
 
   [[nodiscard]] CellParams cell_params() const {
@@ -333,8 +330,7 @@ class TangentMethod final : public Method {
   SearchScratch search_scratch_;
   TerrainCells cells_;
   ColumnProfiles profiles_;
-  std::vector<std::uint8_t> profile_ground_;
-  std::vector<float> profile_height_, plane_height_;
+  std::vector<float> plane_height_;
   bool own_[4] = {false, false, false, false};
   std::vector<std::uint8_t> support_, ground_;
   std::vector<float> height_;

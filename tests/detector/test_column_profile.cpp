@@ -82,7 +82,8 @@ Labels label(const Scan& s, std::vector<float> level2 = {}, std::vector<float> p
   p.sensor_z = 1.8f;  // mounting height known: the ground under the sensor is z = 0
   ColumnProfiles profiles;
   Labels out;
-  profiles.label(s.cloud, steep.data(), level2, plane, p, out.ground, out.height);
+  out.height = level2;  // heights over the level-2 surface on entry
+  profiles.label(s.cloud, steep.data(), plane, p, out.ground, out.height);
   return out;
 }
 
