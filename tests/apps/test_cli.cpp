@@ -172,7 +172,9 @@ TEST_CASE("replay --min-sensor-height lets a sensor standing on the floor find i
   };
   // The floor is 5 cm under the optical centre (docs/detector.md): the vehicle prior refuses it.
   CHECK(ground_share({}) < 0.01);
-  CHECK(ground_share({"--min-sensor-height", "0"}) > 0.2);
+  // 11 % with the column profiles (33 % with the cells alone, which also take the feet of the
+  // vertical surfaces next to the sensor): docs/detector.md.
+  CHECK(ground_share({"--min-sensor-height", "0"}) > 0.08);
   CHECK(run_cli({kCli, "replay", pcap->string(), "--min-sensor-height", "-1"}).code == 2);
 }
 
