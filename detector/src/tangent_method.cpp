@@ -242,8 +242,15 @@ class TangentMethod final : public Method {
       if (cfg_.terrain_refinement) {
         cells_.fit(cand_, bin_slot_, segment_planes(out, false), cell_params());
         cells_.relabel(cloud, facts(), rule, ground_, height_);
-        if (cfg_.column_profiles) follow_columns(cloud);
+        if (cfg_.column_profiles) follow_columns(cloud, true);
       }
+    } else if (profiles_alone()) {
+      // No plane at all (a partial rotation, a crowded frame), but the mounting height says
+      // where the ground under the vehicle is: the column profiles alone.
+      height_.assign(cloud.size(), std::nanf(""));
+      ground_.assign(cloud.size(), 0);
+      follow_columns(cloud, false);
+      any = true;
     }
     constexpr auto kGround = static_cast<std::uint8_t>(GroundLabel::ground);
     constexpr auto kObstacle = static_cast<std::uint8_t>(GroundLabel::obstacle);
@@ -261,12 +268,18 @@ class TangentMethod final : public Method {
   }
 
   // Level 3: column profiles label every return; level 2's surface checks single rises.
-  void follow_columns(const Cloud& cloud) {
+  [[nodiscard]] bool profiles_alone() const {
+    return cfg_.terrain_refinement && cfg_.column_profiles &&
+           cfg_.extrinsics.z_m >= cfg_.min_sensor_height_m && cfg_.extrinsics.z_m > 0.0;
+  }
+
+  // with_cells: level 2 ran (its surface and trusted planes check the profiles).
+  void follow_columns(const Cloud& cloud, bool with_cells) {
     ProfileParams pp;
     pp.sensor_x = origin_x_;
     pp.sensor_y = origin_y_;
     pp.sensor_z = static_cast<float>(cfg_.extrinsics.z_m);
-    pp.vehicle = cells_.vehicle_surface();
+    if (with_cells) pp.vehicle = cells_.vehicle_surface();
     pp.label_up_m = label_up_;
     pp.label_down_m = label_down_;
     pp.steep_band_m = steep_up_;
@@ -274,7 +287,7 @@ class TangentMethod final : public Method {
     const std::vector<std::int32_t>& bin = binning_.point_bin();
     plane_height_.resize(cloud.size());
     for (Index i = 0; i < cloud.size(); ++i) {
-      const bool trusted = bin[i] >= 0 && !cells_.replaced_bin(bin[i]);
+      const bool trusted = with_cells && bin[i] >= 0 && !cells_.replaced_bin(bin[i]);
       plane_height_[i] = trusted ? height_[i] : std::nanf("");
     }
     profiles_.label(cloud, steep_.data(), plane_height_, pp, ground_, height_);

@@ -227,3 +227,32 @@ TEST_CASE("GroundMethod names round-trip, anything else is refused") {
   CHECK_FALSE(parse_ground_method("").has_value());
   CHECK(DetectorConfig{}.method == GroundMethod::tangent);
 }
+
+TEST_CASE("a sliver of a rotation with no plane still has ground when the mounting height is known",
+          "[detector][profiles]") {
+  // A partial rotation (the first or last frame of a capture): a few columns only, too few
+  // returns for any segment plane. With the mounting height known, the column profiles
+  // start at the ground under the vehicle and still find it; without it, nothing is ground.
+  const Scene scene;
+  auto sf = test::render(scene);
+  for (int col = 4; col < sf.frame.columns(); ++col) {
+    sf.frame.column_valid[static_cast<std::size_t>(col)] = 0;
+    for (int ring = 0; ring < kLasers; ++ring) {
+      sf.frame.layer[0].valid[sf.frame.index(ring, col)] = 0;
+      sf.truth[sf.frame.index(ring, col)] = test::Truth::none;
+    }
+  }
+  DetectorConfig unknown;
+  GroundDetector plain(unknown);
+  GroundResult r;
+  plain.detect(sf.frame, r);
+  REQUIRE(r.ground_returns == 0);  // no plane: the paper's method labels nothing ground
+  DetectorConfig mounted;
+  mounted.extrinsics.z_m = 1.8;
+  GroundDetector profiled(mounted);
+  profiled.detect(sf.frame, r);
+  const Tally t = tally(sf, scene, r);
+  CHECK(t.ground_total > 0);
+  CHECK(t.ground_as_ground == t.ground_total);
+  CHECK(r.obstacle_returns == 0);
+}
