@@ -197,6 +197,13 @@ RingRuns point_ring_runs(const Cloud& cloud, Index first, Index last) {
   return ring_runs(first, last, [&](Index p) { return int{cloud.ring[p]}; });
 }
 
+Index strongest_end(const Cloud& cloud) {
+  if (cloud.deduplicated) return cloud.last_begin;
+  return static_cast<Index>(std::find_if(cloud.layer.begin(), cloud.layer.end(),
+                                         [](std::uint8_t l) { return l != 0; }) -
+                            cloud.layer.begin());
+}
+
 RingRuns last_row_runs(const Cloud& cloud) {
   return ring_runs(0, cloud.last_rows.size(),
                    [&](Index p) { return int{cloud.ring[cloud.last_rows[p]]}; });

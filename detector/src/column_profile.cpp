@@ -32,11 +32,7 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
 // or returns behind it (farther away) is an object standing out: a tree crown, a shed or
 // a fence over ground the rings do not see, or in front of ground seen farther on.
 void ColumnProfiles::drop_silhouettes(const Cloud& cloud, std::vector<std::uint8_t>& ground) const {
-  const Index layer0_end = static_cast<Index>(
-      std::partition_point(cloud.layer.begin(), cloud.layer.end(),
-                           [](std::uint8_t l) { return l == 0; }) -
-      cloud.layer.begin());
-  const RingRuns rows = point_ring_runs(cloud, 0, layer0_end);
+  const RingRuns rows = point_ring_runs(cloud, 0, strongest_end(cloud));
   for (int ring = 0; ring < kLasers; ++ring) {
     const Index first = rows[static_cast<Index>(ring)], last = rows[static_cast<Index>(ring) + 1];
     Index a = first;

@@ -58,6 +58,8 @@ RingRuns ring_runs(std::size_t first, std::size_t last, RingAt ring_at) {
 
 /// Ring runs of cloud points [first, last) (one layer's points, in cloud order).
 RingRuns point_ring_runs(const Cloud& cloud, std::size_t first, std::size_t last);
+/// End of the strongest layer's points (the cloud is in layer order).
+std::size_t strongest_end(const Cloud& cloud);
 /// Ring runs of Cloud::last_rows.
 RingRuns last_row_runs(const Cloud& cloud);
 

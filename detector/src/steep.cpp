@@ -42,17 +42,10 @@ void mark_rows(const Cloud& cloud, const RingRuns& begin, std::vector<std::uint8
 void mark_steep(const Cloud& cloud, std::vector<std::uint8_t>& steep) {
   steep.assign(cloud.size(), 0);
   const Index n = cloud.size();
-  Index layer_end[2] = {n, n};
-  if (cloud.deduplicated) {
-    layer_end[0] = cloud.last_begin;
-  } else {
-    layer_end[0] = static_cast<Index>(std::find_if(cloud.layer.begin(), cloud.layer.end(),
-                                                   [](std::uint8_t l) { return l != 0; }) -
-                                      cloud.layer.begin());
-  }
-  mark_rows(cloud, point_ring_runs(cloud, 0, layer_end[0]), steep);
+  const Index strongest = strongest_end(cloud);
+  mark_rows(cloud, point_ring_runs(cloud, 0, strongest), steep);
   if (!cloud.deduplicated) {
-    mark_rows(cloud, point_ring_runs(cloud, layer_end[0], n), steep);
+    mark_rows(cloud, point_ring_runs(cloud, strongest, n), steep);
     return;
   }
   // A distinct last return meets the last layer as the sensor saw it (twins included) in

@@ -267,13 +267,15 @@ class TangentMethod final : public Method {
     }
   }
 
-  // Level 3: column profiles label every return; level 2's surface checks single rises.
+  // Without any plane, the column profiles can still start from the mounting height.
   [[nodiscard]] bool profiles_alone() const {
     return cfg_.terrain_refinement && cfg_.column_profiles &&
-           cfg_.extrinsics.z_m >= cfg_.min_sensor_height_m && cfg_.extrinsics.z_m > 0.0;
+           mounting_height_known(static_cast<float>(cfg_.extrinsics.z_m),
+                                 static_cast<float>(cfg_.min_sensor_height_m));
   }
 
-  // with_cells: level 2 ran (its surface and trusted planes check the profiles).
+  // Level 3: column profiles label every return. with_cells: level 2 ran (its surface and
+  // the level-1 planes it kept check the profiles).
   void follow_columns(const Cloud& cloud, bool with_cells) {
     ProfileParams pp;
     pp.sensor_x = origin_x_;

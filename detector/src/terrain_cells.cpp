@@ -370,13 +370,12 @@ bool TerrainCells::fit_layer(int cell, const Candidates& cand,
   return absolute(out.gx) <= p_.max_gradient && absolute(out.gy) <= p_.max_gradient;
 }
 
-// Eq. 3 inliers of `p` among the near candidates.
 namespace {
 
 // Score of plane p on the returns around the sensor (gathered in near_pts_): eq. 3 inliers
 // less kBelowPenalty per return more than kBelow_m under it. Branchless, vectorised.
 VLPGROUND_VECTOR_CLONES
-int near_score(const float* __restrict x, const float* __restrict y, const float* __restrict z,
+int score_near(const float* __restrict x, const float* __restrict y, const float* __restrict z,
                const float* __restrict tx, const float* __restrict ty,
                const float* __restrict tz, Index n, const Plane p, float eps, float sin_delta) {
   int count = 0;
@@ -391,22 +390,19 @@ int near_score(const float* __restrict x, const float* __restrict y, const float
 
 }  // namespace
 
-int TerrainCells::near_inliers(const Plane& p, PlaneFit* fit) const {
+int TerrainCells::near_score(const Plane& p) const {
   const NearPoints& q = near_pts_;
-  if (fit == nullptr) {
-    return near_score(q.x.data(), q.y.data(), q.z.data(), q.tx.data(), q.ty.data(), q.tz.data(),
-                      q.x.size(), p, p_.eps, p_.sin_delta);
-  }
-  int count = 0;
+  return score_near(q.x.data(), q.y.data(), q.z.data(), q.tx.data(), q.ty.data(),
+                    q.tz.data(), q.x.size(), p, p_.eps, p_.sin_delta);
+}
+
+// Eq. 3 inliers of `p` among the returns around the sensor, into `fit`.
+void TerrainCells::fit_near_inliers(const Plane& p, PlaneFit& fit) const {
+  const NearPoints& q = near_pts_;
   for (Index i = 0; i < q.x.size(); ++i) {
-    const float dist = p.nx * q.x[i] + p.ny * q.y[i] + p.nz * q.z[i] + p.d;
-    if (dist < -kBelow_m) count -= kBelowPenalty;
-    if (!eq3_inlier(p, q.x[i], q.y[i], q.z[i], q.tx[i], q.ty[i], q.tz[i], p_.eps, p_.sin_delta))
-      continue;
-    ++count;
-    fit->add(q.x[i], q.y[i], q.z[i]);
+    if (eq3_inlier(p, q.x[i], q.y[i], q.z[i], q.tx[i], q.ty[i], q.tz[i], p_.eps, p_.sin_delta))
+      fit.add(q.x[i], q.y[i], q.z[i]);
   }
-  return count;
 }
 
 bool TerrainCells::plausible_under_sensor(const Plane& p) const {
@@ -418,7 +414,7 @@ bool TerrainCells::plausible_under_sensor(const Plane& p) const {
 // vehicle frame's z = 0 is the ground under the wheels: a plane replacing the level-1 one
 // under the sensor must lie near it (roofs of the cars around in a jam do not).
 bool TerrainCells::at_mounting_height(const Plane& p) const {
-  if (p_.sensor_z < p_.min_sensor_height_m || p_.sensor_z <= 0.f) return true;
+  if (!mounting_height_known(p_.sensor_z, p_.min_sensor_height_m)) return true;
   const float under = p.nx * p_.sensor_x + p.ny * p_.sensor_y + p.nz * p_.sensor_z + p.d;
   return absolute(under - p_.sensor_z) <= kMountingTolerance * p_.sensor_z;
 }
@@ -447,7 +443,7 @@ HeightPlane TerrainCells::vehicle_seed(const Candidates& cand,
       }
     }
   }
-  const int own = plausible_under_sensor(level1) ? near_inliers(level1, nullptr) : 0;
+  const int own = plausible_under_sensor(level1) ? near_score(level1) : 0;
   const Index near = near_pts_.x.size();
   if (near < 3) return HeightPlane::from(level1);
   Rng rng(p_.seed);
@@ -465,7 +461,7 @@ HeightPlane TerrainCells::vehicle_seed(const Candidates& cand,
     if (!plane_from_points(pts[0], pts[1], pts[2], h, kNearMinArea_m2) ||
         !plausible_under_sensor(h) || !at_mounting_height(h))
       continue;
-    const int count = near_inliers(h, nullptr);
+    const int count = near_score(h);
     if (count > best_count) {
       best_count = count;
       best = h;
@@ -476,7 +472,7 @@ HeightPlane TerrainCells::vehicle_seed(const Candidates& cand,
     return HeightPlane::from(level1);
   for (int pass = 0; pass < 2; ++pass) {  // least squares on the inliers, twice
     PlaneFit fit;
-    near_inliers(best, &fit);
+    fit_near_inliers(best, fit);
     Plane refined;
     if (!fit.solve(refined) || !plausible_under_sensor(refined) || !at_mounting_height(refined))
       break;

@@ -54,6 +54,12 @@ struct CellParams {
   std::uint64_t seed = 1;
 };
 
+/// The mounting height is known (extrinsics z, at least the minimum sensor height): the
+/// vehicle frame's z = 0 is then the ground under the wheels.
+[[nodiscard]] inline bool mounting_height_known(float z_m, float min_sensor_height_m) {
+  return z_m > 0.f && z_m >= min_sensor_height_m;
+}
+
 enum class CellState : std::uint8_t { unvisited, level1, refined, inherited };
 
 /// Histogram search of the densest window: the lowest window of `width` consecutive bins
@@ -96,7 +102,8 @@ class TerrainCells {
   struct Fit;
   HeightPlane vehicle_seed(const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
                            const Plane& level1);
-  int near_inliers(const Plane& p, PlaneFit* fit) const;
+  [[nodiscard]] int near_score(const Plane& p) const;
+  void fit_near_inliers(const Plane& p, PlaneFit& fit) const;
   [[nodiscard]] bool plausible_under_sensor(const Plane& p) const;
   [[nodiscard]] bool at_mounting_height(const Plane& p) const;
   bool fit_cell(int cell, const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
