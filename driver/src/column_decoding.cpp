@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "le_load.hpp"
+#include "packet_layout.hpp"
 #include "trig_table.hpp"
 #include "vlpground_internal/vector_clones.hpp"
 
@@ -11,7 +12,6 @@ namespace vlpground::driver_detail {
 
 namespace {
 
-constexpr std::size_t kBlockBytes = 100;
 constexpr std::size_t kRecordBytes = 3;
 constexpr std::size_t kFlagAndAzimuthBytes = 4;
 constexpr std::size_t kHalfBlockBytes = 16 * kRecordBytes;  // second firing sequence of a block

@@ -4,31 +4,22 @@
 #include <cmath>
 
 #include "azimuth_math.hpp"
+#include "column_decoding.hpp"
 #include "le_load.hpp"
+#include "packet_layout.hpp"
 #include "vlpground/types.hpp"
 
 namespace vlpground::driver_detail {
 namespace {
 
-constexpr std::int64_t kHourUs = 3'600'000'000;
-constexpr std::size_t kStampOffset = 1200;
-constexpr std::size_t kModeOffset = 1204;
-constexpr std::size_t kLastBlockOffset = 11 * 100;
+constexpr std::size_t kLastBlockOffset = 11 * kBlockBytes;
 constexpr double kMaxPacketStepDeg = 30.0;  // 24 firings at 1200 rpm sweep ~9.6 deg
 
 // Azimuth of the block at `offset` in degrees, or -1 when not a valid block.
 double block_deg(std::span<const std::uint8_t> p, std::size_t offset) {
   if (p.size() < 1206 || p[offset] != 0xFF || p[offset + 1] != 0xEE) return -1.0;
-  const int centideg = load_le16(p.data() + offset + 2);
-  if (centideg > 36000) return -1.0;
-  return centideg == 36000 ? 0.0 : centideg / 100.0;
-}
-
-// `later - earlier` on the sensor clock, whose stamps wrap at the hour.
-std::int64_t stamp_gap_us(std::uint32_t earlier, std::uint32_t later) {
-  std::int64_t gap = std::int64_t{later} - std::int64_t{earlier};
-  if (gap < 0) gap += kHourUs;
-  return gap;
+  if (load_le16(p.data() + offset + 2) > 36000) return -1.0;
+  return block_azimuth(p.data() + offset) / 100.0;
 }
 
 }  // namespace

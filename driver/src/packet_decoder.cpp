@@ -6,6 +6,7 @@
 
 #include "column_decoding.hpp"
 #include "le_load.hpp"
+#include "packet_layout.hpp"
 #include "time_base.hpp"
 #include "trig_table.hpp"
 
@@ -16,17 +17,18 @@ struct PacketDecoder::Constants {
 };
 
 using driver_detail::block_azimuth;
+using driver_detail::kBlockBytes;
 using driver_detail::kCentidegPerTurn;
+using driver_detail::kHourUs;
+using driver_detail::kModeOffset;
+using driver_detail::kProductOffset;
+using driver_detail::kStampOffset;
 using driver_detail::load_le16;
 using driver_detail::load_le32;
+using driver_detail::stamp_gap_us;
 
 namespace {
 
-constexpr std::size_t kBlockBytes = 100;
-constexpr std::size_t kStampOffset = 1200;
-constexpr std::size_t kModeOffset = 1204;
-constexpr std::size_t kProductOffset = 1205;
-constexpr std::int64_t kHourUs = 3'600'000'000;
 
 void clear_last_layer(DecodedPacket& out) {
   out.layer[kLastLayer] = {};
@@ -143,8 +145,7 @@ void PacketDecoder::judge_timing(std::uint32_t stamp_us) {
     previous_stamp_us_ = stamp_us;
     return;
   }
-  std::int64_t gap = std::int64_t{stamp_us} - previous_stamp_us_;
-  if (gap < 0) gap += kHourUs;
+  const std::int64_t gap = stamp_gap_us(previous_stamp_us_, stamp_us);
   previous_stamp_us_ = stamp_us;
   auto near = [gap](std::int64_t period_ns) {
     const std::int64_t d = gap * 1000 - period_ns;
