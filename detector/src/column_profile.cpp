@@ -7,6 +7,12 @@ namespace vlpground::detail {
 
 namespace {
 using Index = std::size_t;
+
+// Whether returns a and b lie at least `distance` apart horizontally.
+bool apart(const Cloud& cloud, Index a, Index b, float distance) {
+  const float dx = cloud.x[b] - cloud.x[a], dy = cloud.y[b] - cloud.y[a];
+  return dx * dx + dy * dy >= distance * distance;
+}
 }  // namespace
 
 void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
@@ -20,18 +26,21 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   }
   ground.resize(cloud.size());
   height.resize(cloud.size());
+  shadowed_.resize(cloud.size());
   for (const ColumnPoint& q : points_) {
     ground[q.index] = q.ground;
     height[q.index] = q.over;
+    shadowed_[q.index] = q.shadowed;
   }
-  drop_silhouettes(cloud, ground);
+  follow_rings(cloud, ground);
 }
 
 // Along each ring (strongest layer), runs of returns continuous in space. Terrain seen by a
-// ring is a long continuous curve; a short run whose both ends border the sky (no return)
+// ring is a long continuous curve: ground refused in the shadow of an obstacle within a
+// run is filled in (fill_shadows); a short run whose both ends border the sky (no return)
 // or returns behind it (farther away) is an object standing out: a tree crown, a shed or
 // a fence over ground the rings do not see, or in front of ground seen farther on.
-void ColumnProfiles::drop_silhouettes(const Cloud& cloud, std::vector<std::uint8_t>& ground) const {
+void ColumnProfiles::follow_rings(const Cloud& cloud, std::vector<std::uint8_t>& ground) const {
   const RingRuns rows = point_ring_runs(cloud, 0, strongest_end(cloud));
   for (int ring = 0; ring < kLasers; ++ring) {
     const Index first = rows[static_cast<Index>(ring)], last = rows[static_cast<Index>(ring) + 1];
@@ -41,10 +50,63 @@ void ColumnProfiles::drop_silhouettes(const Cloud& cloud, std::vector<std::uint8
       while (b + 1 < last && continuous(cloud, b, b + 1)) ++b;
       if (stands_out(cloud, first, last, a, b)) {
         for (Index i = a; i <= b; ++i) ground[i] = 0;
+      } else {
+        fill_shadows(cloud, a, b + 1, ground);
       }
       a = b + 1;
     }
   }
+}
+
+// Run [begin, end) of one ring: an obstacle near the sensor (a trunk, a box, a car) hides
+// the lower rings of the columns behind it, and the walk refuses the ground a higher ring
+// sees past it when that ground has risen more than the allowance past an obstacle (the
+// far side of a bowl, a hill behind a tree). The ring itself runs on across the shadow: a
+// stretch of such returns with ground on both sides is ground where it lies on the line
+// joining that ground. The ground on each side must be seen over shadow_anchor_m, so that
+// a lone ground return on a fence line anchors nothing.
+void ColumnProfiles::fill_shadows(const Cloud& cloud, Index begin, Index end,
+                                  std::vector<std::uint8_t>& ground) const {
+  Index anchor = end;  // last return of a long enough ground stretch before a shadow
+  Index start = end;   // first return of the ground stretch being walked
+  bool long_stretch = false;
+  for (Index i = begin; i < end; ++i) {
+    if (ground[i] == 0) {
+      start = end;
+      long_stretch = false;
+      if (shadowed_[i] == 0) anchor = end;  // an obstacle of the ring itself
+      continue;
+    }
+    if (start == end) start = i;
+    // The first ground return past a shadow: the ground beyond it must be long enough too.
+    if (anchor != end && i > anchor + 1 && ground[i - 1] == 0 && long_ground_from(cloud, ground, i, end))
+      fill_between(cloud, anchor, i, ground);
+    long_stretch = long_stretch || apart(cloud, start, i, p_.shadow_anchor_m);
+    if (long_stretch) anchor = i;
+  }
+}
+
+// The returns between ground returns a and b (same ring) become ground when every refused
+// one lies within shadow_band_m of the line joining a and b (by column).
+void ColumnProfiles::fill_between(const Cloud& cloud, Index a, Index b,
+                                  std::vector<std::uint8_t>& ground) const {
+  const float z0 = cloud.z[a], z1 = cloud.z[b];
+  const float span = static_cast<float>(cloud.column[b] - cloud.column[a]);
+  for (Index k = a + 1; k < b; ++k) {
+    const float t = static_cast<float>(cloud.column[k] - cloud.column[a]) / span;
+    if (ground[k] == 0 && std::abs(cloud.z[k] - (z0 + t * (z1 - z0))) > p_.shadow_band_m) return;
+  }
+  std::fill(ground.begin() + static_cast<std::ptrdiff_t>(a) + 1,
+            ground.begin() + static_cast<std::ptrdiff_t>(b), std::uint8_t{1});
+}
+
+// Whether the ground returns of the run from i (before `end`) reach shadow_anchor_m from it.
+bool ColumnProfiles::long_ground_from(const Cloud& cloud, const std::vector<std::uint8_t>& ground,
+                                      Index i, Index end) const {
+  for (Index j = i; j < end && ground[j] != 0; ++j) {
+    if (apart(cloud, i, j, p_.shadow_anchor_m)) return true;
+  }
+  return false;
 }
 
 bool ColumnProfiles::continuous(const Cloud& cloud, Index a, Index b) const {
@@ -91,7 +153,7 @@ void ColumnProfiles::gather_by_column(const Cloud& cloud, const std::uint8_t* st
   for (Index i = 0; i < cloud.size(); ++i) {
     ColumnPoint& q = points_[cursor_[cloud.column[i]]++];
     q = {cloud.range_xy[i], cloud.z[i], level2_height[i], plane_height[i], 0.f,
-         static_cast<std::uint32_t>(i), cloud.ring[i], steep[i], 0};
+         static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(cloud.ring[i]), steep[i], 0};
   }
   auto before = [](const ColumnPoint& u, const ColumnPoint& w) {
     return u.ring != w.ring ? u.ring < w.ring : u.r < w.r;
@@ -179,6 +241,9 @@ void ColumnProfiles::walk_column(Index begin, Index end) {
     // Past an obstacle, a return on a level-1 plane that explains its cell is ground too.
     if (!accept && blocked && std::abs(q.plane_h) <= p_.plane_band_m) accept = true;
     if (!accept) {
+      // Refused only for an obstacle in front (a gentle enough rise): fill_shadows may
+      // take it from the ring.
+      q.shadowed = blocked && std::abs(step) <= p_.max_gradient ? 1 : 0;
       blocked = true;
       continue;
     }

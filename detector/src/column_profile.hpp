@@ -54,6 +54,12 @@ struct ProfileParams {
   float run_gap_m = 0.3f, run_gap_per_m = 0.02f;
   float silhouette_max_m = 6.f;
   int sky_columns = 3;
+  // Shadows along a ring: returns of a continuous run that the walk refused only because an
+  // obstacle stood in front of them in their columns (a trunk, a box, a car near the
+  // sensor) are ground when they lie within shadow_band_m of the line joining the run's
+  // ground on both sides of the shadow, and that ground is seen over at least
+  // shadow_anchor_m on each side (a lone ground return on a fence line anchors nothing).
+  float shadow_band_m = 0.2f, shadow_anchor_m = 0.7f;
 };
 
 class ColumnProfiles {
@@ -71,15 +77,21 @@ class ColumnProfiles {
   struct ColumnPoint {
     float r, z, level2_h, plane_h, over;
     std::uint32_t index;  // cloud point
-    std::uint16_t ring;
-    std::uint8_t steep, ground;
+    std::uint8_t ring, steep, ground;
+    std::uint8_t shadowed = 0;  // refused only for an obstacle in front (fill_shadows)
   };
   void gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
                         const std::vector<float>& level2_height,
                         const std::vector<float>& plane_height);
   void walk_column(std::size_t begin, std::size_t end);
   void check_single_rises(std::size_t begin, std::size_t end);
-  void drop_silhouettes(const Cloud& cloud, std::vector<std::uint8_t>& ground) const;
+  void follow_rings(const Cloud& cloud, std::vector<std::uint8_t>& ground) const;
+  void fill_shadows(const Cloud& cloud, std::size_t begin, std::size_t end,
+                    std::vector<std::uint8_t>& ground) const;
+  void fill_between(const Cloud& cloud, std::size_t a, std::size_t b,
+                    std::vector<std::uint8_t>& ground) const;
+  [[nodiscard]] bool long_ground_from(const Cloud& cloud, const std::vector<std::uint8_t>& ground,
+                                      std::size_t i, std::size_t end) const;
   [[nodiscard]] bool continuous(const Cloud& cloud, std::size_t a, std::size_t b) const;
   [[nodiscard]] bool stands_out(const Cloud& cloud, std::size_t first, std::size_t last,
                                 std::size_t a, std::size_t b) const;
@@ -92,6 +104,7 @@ class ColumnProfiles {
   std::size_t profile_size_ = 0;
   std::vector<std::uint32_t> column_start_, cursor_;
   std::vector<ColumnPoint> points_;
+  std::vector<std::uint8_t> shadowed_;  // ColumnPoint::shadowed by cloud point
 };
 
 }  // namespace vlpground::detail
