@@ -15,7 +15,7 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   p_ = params;
   gather_by_column(cloud, steep, height, plane_height);  // height: over level 2 until here
   for (Index c = 0; c + 1 < column_start_.size(); ++c) {
-    walk_column(column_start_[c], column_start_[c + 1]);
+    walk_column(c, column_start_[c], column_start_[c + 1]);
     check_single_rises(column_start_[c], column_start_[c + 1]);
   }
   ground.resize(cloud.size());
@@ -88,7 +88,10 @@ void ColumnProfiles::gather_by_column(const Cloud& cloud, const std::uint8_t* st
   for (Index c = 1; c < column_start_.size(); ++c) column_start_[c] += column_start_[c - 1];
   cursor_.assign(column_start_.begin(), column_start_.end() - 1);
   points_.resize(cloud.size());
+  ring_far_.assign(static_cast<Index>(columns) * kLasers, 0.f);
   for (Index i = 0; i < cloud.size(); ++i) {
+    float& far = ring_far_[static_cast<Index>(cloud.column[i]) * kLasers + cloud.ring[i]];
+    far = std::max(far, cloud.range_xy[i]);
     ColumnPoint& q = points_[cursor_[cloud.column[i]]++];
     q = {cloud.range_xy[i], cloud.z[i], level2_height[i], plane_height[i], 0.f,
          static_cast<std::uint32_t>(i), cloud.ring[i], steep[i], 0};
@@ -127,9 +130,22 @@ float ColumnProfiles::profile_at(float r) const {
   return profile_z_[k - 1] + t * (profile_z_[k] - profile_z_[k - 1]);
 }
 
+// Whether the ray of `ring` in `column` reached horizontal distance r: its return lies no
+// more than reach_slack_m short of r, or it has none (the sky) and neither neighbour
+// column has one short of r (else it may have dropped out).
+bool ColumnProfiles::ray_reaches(Index column, int ring, float r) const {
+  const auto far = [&](Index c) { return ring_far_[c * kLasers + static_cast<Index>(ring)]; };
+  const float reach = r - p_.reach_slack_m;
+  const float here = far(column);
+  if (here > 0.f) return here > reach;
+  const Index columns = ring_far_.size() / kLasers;
+  const auto short_of = [&](Index c) { return far(c) > 0.f && far(c) <= reach; };
+  return !(column > 0 && short_of(column - 1)) && !(column + 1 < columns && short_of(column + 1));
+}
+
 // One column outwards from the sensor. The profile is the last ground return (r, z) and
 // the gradient dz/dr along the column, starting at the ground under the sensor.
-void ColumnProfiles::walk_column(Index begin, Index end) {
+void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
   if (begin == end) return;
   // The profile starts level under the sensor: at z = 0 when the mounting height is known
   // (the vehicle frame's ground), else on the vehicle's surface. Starting with that
@@ -138,11 +154,36 @@ void ColumnProfiles::walk_column(Index begin, Index end) {
   float last_z = p_.sensor_z > 0.f ? 0.f : p_.vehicle.at(p_.sensor_x, p_.sensor_y);
   float gradient = 0.f;
   bool blocked = false;  // an obstacle return since the last ground return
+  int last_ring = -1;    // ring of the last ground return (-1: the start)
+  // The farthest return of the rings below the current one, and of the current ring.
+  float lower_far_r = 0.f, lower_far_z = 0.f, ring_far_r = 0.f, ring_far_z = 0.f;
+  int ring_now = -1;
+  // A ray of a lower ring reaching (r, z) passes under it (its height at r, or its return
+  // when a little short of r); the ray of a ring between the last ground return and a
+  // climb to (r, z) that reached it would have hit any surface joining them.
+  auto under_a_ray = [&](float r, float z, int ring) {
+    if (lower_far_r > r - p_.reach_slack_m) {
+      const float at = std::min(r, lower_far_r);
+      const float ray_z = p_.sensor_z + (lower_far_z - p_.sensor_z) * (at / lower_far_r);
+      if (ray_z < z - p_.under_ray_m) return true;
+    }
+    if (z <= last_z + p_.sky_climb_m) return false;
+    for (int between = last_ring + 1; between < ring; ++between) {
+      if (ray_reaches(column, between, r)) return true;
+    }
+    return false;
+  };
   profile_size_ = 0;
   add_to_profile(last_r, last_z);
   for (Index k = begin; k < end; ++k) {
     ColumnPoint& q = points_[k];
     const float r = q.r, z = q.z;
+    if (q.ring != ring_now) {
+      if (ring_far_r > lower_far_r) lower_far_r = ring_far_r, lower_far_z = ring_far_z;
+      ring_far_r = 0.f;
+      ring_now = q.ring;
+    }
+    if (r > ring_far_r) ring_far_r = r, ring_far_z = z;
     const float advance = r - last_r;
     // Beyond the last ground return the profile is extrapolated; nearer (a canopy or a
     // wall seen by a higher ring in front of ground already walked), it is interpolated.
@@ -154,6 +195,7 @@ void ColumnProfiles::walk_column(Index begin, Index end) {
       q.ground = std::abs(over) < p_.steep_band_m ||
                  (std::abs(q.plane_h) < p_.steep_band_m &&
                   (std::abs(over) < p_.plane_foot_m || profile_size_ == 1));
+      if (q.ground != 0 && under_a_ray(r, z, q.ring)) q.ground = 0;
       blocked = true;
       continue;
     }
@@ -178,6 +220,7 @@ void ColumnProfiles::walk_column(Index begin, Index end) {
     }
     // Past an obstacle, a return on a level-1 plane that explains its cell is ground too.
     if (!accept && blocked && std::abs(q.plane_h) <= p_.plane_band_m) accept = true;
+    if (accept && under_a_ray(r, z, q.ring)) accept = false;
     if (!accept) {
       blocked = true;
       continue;
@@ -188,6 +231,7 @@ void ColumnProfiles::walk_column(Index begin, Index end) {
     add_to_profile(r, z);
     gradient = next_gradient;
     blocked = false;
+    last_ring = q.ring;
   }
 }
 

@@ -54,6 +54,14 @@ struct ProfileParams {
   float run_gap_m = 0.3f, run_gap_per_m = 0.02f;
   float silhouette_max_m = 6.f;
   int sky_columns = 3;
+  // Rays never pass under the ground (docs/detector.md, "Rays under the ground"): a return
+  // is not ground when the ray of a lower ring of its column reaches it (returns at most
+  // reach_slack_m nearer, or farther) more than under_ray_m under it, or when it climbs
+  // more than sky_climb_m over the last ground return while the ray of a ring between the
+  // two reached it or went to the sky (no return in its column, and none that ends short of
+  // it in either neighbour): that ray would have hit any surface joining them.
+  float under_ray_m = 0.2f, reach_slack_m = 0.1f;
+  float sky_climb_m = 0.5f;
 };
 
 class ColumnProfiles {
@@ -77,7 +85,8 @@ class ColumnProfiles {
   void gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
                         const std::vector<float>& level2_height,
                         const std::vector<float>& plane_height);
-  void walk_column(std::size_t begin, std::size_t end);
+  void walk_column(std::size_t column, std::size_t begin, std::size_t end);
+  [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
   void check_single_rises(std::size_t begin, std::size_t end);
   void drop_silhouettes(const Cloud& cloud, std::vector<std::uint8_t>& ground) const;
   [[nodiscard]] bool continuous(const Cloud& cloud, std::size_t a, std::size_t b) const;
@@ -91,6 +100,7 @@ class ColumnProfiles {
   std::array<float, 2 * kLasers + 1> profile_r_{}, profile_z_{};
   std::size_t profile_size_ = 0;
   std::vector<std::uint32_t> column_start_, cursor_;
+  std::vector<float> ring_far_;  // per column and ring: farthest return's range (0: none)
   std::vector<ColumnPoint> points_;
 };
 
