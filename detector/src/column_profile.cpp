@@ -252,7 +252,11 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
       while (next < end && !neighbour(next)) ++next;
       const bool before = previous < end && raised(previous, 0.5f * p_.single_rise_m);
       const bool after = next < end && raised(next, 0.5f * p_.single_rise_m);
-      if (!before && !after) points_[k].ground = 0;
+      // Level with the ground return before it, or under it, the level-2 surface is what
+      // is off (a levee's shoulder over a cell fitted to the fields below).
+      const bool level = previous < end &&
+                         points_[k].z - points_[previous].z <= 0.5f * p_.single_rise_m;
+      if (!before && !after && !level) points_[k].ground = 0;
     }
     previous = k;
   }

@@ -38,7 +38,8 @@ struct ProfileParams {
   float label_up_m = 0.18f, label_down_m = 0.5f;  // band for returns that do not advance
   // A ground return more than this over the level-2 surface stays ground only when the
   // ground return before or after it in its column is raised too (a bank rises over
-  // several rings; a fence or a box side is one ring line).
+  // several rings; a fence or a box side is one ring line), or when it is at most half of
+  // this over the ground return before it (then the level-2 surface is what is off).
   float single_rise_m = 0.3f;
   // Past an obstacle a return this close to a level-1 plane that explains its cell is ground
   // (the plane is trusted where it explains the ground; the cells' own fits are not).

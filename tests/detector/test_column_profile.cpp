@@ -135,6 +135,18 @@ TEST_CASE("column profiles: a single ring raised over the level-2 surface is dro
   CHECK(label(s, s.cloud.z).ground == std::vector<std::uint8_t>{1, 1, 1, 0, 1});
 }
 
+TEST_CASE("column profiles: a return level with the ground before it is not a single rise",
+          "[detector][profiles]") {
+  // A levee: the road at 7 m, its shoulder at 8.4 m, the fields 1.9 m lower at 19.6 m. The
+  // level-2 cell under the shoulder was fitted to the fields: the shoulder is 1.86 m over
+  // it, with neither column neighbour raised, but level with the road before it.
+  Scan s;
+  add(s, 0, 0, 7.f, 0.f, 1);
+  add(s, 1, 0, 8.4f, -0.04f, 1);
+  add(s, 2, 0, 19.6f, -1.9f, 1);
+  CHECK(label(s, {0.f, 1.86f, 0.f}).ground == std::vector<std::uint8_t>{1, 1, 1});
+}
+
 TEST_CASE("column profiles: past a car the ground resumes at a gentle slope, not on its roof",
           "[detector][profiles]") {
   // Ring 4 either the car's roof at 9.5 m, 1.5 m up, or terrain rising at 0.05 from the
