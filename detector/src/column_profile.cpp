@@ -201,6 +201,15 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
     }
     if (advance < p_.min_advance_m) {  // over or under ground already walked
       q.ground = over > -p_.label_down_m && over < p_.label_up_m;
+      // A ground return a little farther at a plausible gradient moves the profile's end
+      // there, keeping its gradient (the rings crowd on a bank face close to the sensor).
+      if (q.ground != 0 && advance > 0.f &&
+          std::abs(z - last_z) <= p_.max_gradient * advance + p_.anchor_slack_m) {
+        last_r = r;
+        last_z = z;
+        add_to_profile(r, z);
+        last_ring = q.ring;
+      }
       continue;
     }
     const float step = (z - last_z) / advance;  // gradient from the last ground return

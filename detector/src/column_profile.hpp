@@ -34,6 +34,8 @@ struct ProfileParams {
   float start_rise_m = 0.25f, start_rise_per_m = 0.12f;
   float drop_m = 0.5f;         // a return this far under the profile starts a lower surface
   float min_advance_m = 0.3f;  // nearer than this (horizontally) to the last ground return
+  float anchor_slack_m = 0.05f;  // ... a ground return moves the profile's end at most
+                                 // max_gradient x advance + this up or down
   float steep_band_m = 0.06f;  // a steep return is ground only this close to the profile
   float label_up_m = 0.18f, label_down_m = 0.5f;  // band for returns that do not advance
   // A ground return more than this over the level-2 surface stays ground only when the

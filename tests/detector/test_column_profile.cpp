@@ -147,6 +147,17 @@ TEST_CASE("column profiles: a return level with the ground before it is not a si
   CHECK(label(s, {0.f, 1.86f, 0.f}).ground == std::vector<std::uint8_t>{1, 1, 1});
 }
 
+TEST_CASE("column profiles: rings crowding on a bank face close by still move the profile",
+          "[detector][profiles]") {
+  // A bank face rising at 0.55 from 6.3 m: ring 1 is only 0.28 m past ring 0 (too close to
+  // take a gradient from), but it moves the profile's end; from ring 0, ring 2 would be
+  // over the allowance and the face lost.
+  Scan s;
+  const float r[] = {6.27f, 6.55f, 6.88f, 7.27f, 7.61f}, z[] = {0.1f, 0.26f, 0.44f, 0.63f, 0.84f};
+  for (int ring = 0; ring < 5; ++ring) add(s, ring, 0, r[ring], z[ring], 1);
+  CHECK(label(s).ground == std::vector<std::uint8_t>{1, 1, 1, 1, 1});
+}
+
 TEST_CASE("column profiles: past a car the ground resumes at a gentle slope, not on its roof",
           "[detector][profiles]") {
   // Ring 4 either the car's roof at 9.5 m, 1.5 m up, or terrain rising at 0.05 from the
