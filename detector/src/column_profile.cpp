@@ -21,7 +21,7 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   p_ = params;
   gather_by_column(cloud, steep, height, plane_height);  // height: over level 2 until here
   for (Index c = 0; c + 1 < column_start_.size(); ++c) {
-    walk_column(column_start_[c], column_start_[c + 1]);
+    walk_column(c, column_start_[c], column_start_[c + 1]);
     check_single_rises(column_start_[c], column_start_[c + 1]);
   }
   ground.resize(cloud.size());
@@ -150,7 +150,10 @@ void ColumnProfiles::gather_by_column(const Cloud& cloud, const std::uint8_t* st
   for (Index c = 1; c < column_start_.size(); ++c) column_start_[c] += column_start_[c - 1];
   cursor_.assign(column_start_.begin(), column_start_.end() - 1);
   points_.resize(cloud.size());
+  ring_far_.assign(static_cast<Index>(columns) * kLasers, 0.f);
   for (Index i = 0; i < cloud.size(); ++i) {
+    float& far = ring_far_[static_cast<Index>(cloud.column[i]) * kLasers + cloud.ring[i]];
+    far = std::max(far, cloud.range_xy[i]);
     ColumnPoint& q = points_[cursor_[cloud.column[i]]++];
     q = {cloud.range_xy[i], cloud.z[i], level2_height[i], plane_height[i], 0.f,
          static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(cloud.ring[i]), steep[i], 0};
@@ -189,9 +192,22 @@ float ColumnProfiles::profile_at(float r) const {
   return profile_z_[k - 1] + t * (profile_z_[k] - profile_z_[k - 1]);
 }
 
+// Whether the ray of `ring` in `column` reached horizontal distance r: its return lies no
+// more than reach_slack_m short of r, or it has none (the sky) and neither neighbour
+// column has one short of r (else it may have dropped out).
+bool ColumnProfiles::ray_reaches(Index column, int ring, float r) const {
+  const auto far = [&](Index c) { return ring_far_[c * kLasers + static_cast<Index>(ring)]; };
+  const float reach = r - p_.reach_slack_m;
+  const float here = far(column);
+  if (here > 0.f) return here > reach;
+  const Index columns = ring_far_.size() / kLasers;
+  const auto short_of = [&](Index c) { return far(c) > 0.f && far(c) <= reach; };
+  return !(column > 0 && short_of(column - 1)) && !(column + 1 < columns && short_of(column + 1));
+}
+
 // One column outwards from the sensor. The profile is the last ground return (r, z) and
 // the gradient dz/dr along the column, starting at the ground under the sensor.
-void ColumnProfiles::walk_column(Index begin, Index end) {
+void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
   if (begin == end) return;
   // The profile starts level under the sensor: at z = 0 when the mounting height is known
   // (the vehicle frame's ground), else on the vehicle's surface. Starting with that
@@ -200,11 +216,36 @@ void ColumnProfiles::walk_column(Index begin, Index end) {
   float last_z = p_.sensor_z > 0.f ? 0.f : p_.vehicle.at(p_.sensor_x, p_.sensor_y);
   float gradient = 0.f;
   bool blocked = false;  // an obstacle return since the last ground return
+  int last_ring = -1;    // ring of the last ground return (-1: the start)
+  // The farthest return of the rings below the current one, and of the current ring.
+  float lower_far_r = 0.f, lower_far_z = 0.f, ring_far_r = 0.f, ring_far_z = 0.f;
+  int ring_now = -1;
+  // A ray of a lower ring reaching (r, z) passes under it (its height at r, or its return
+  // when a little short of r); the ray of a ring between the last ground return and a
+  // climb to (r, z) that reached it would have hit any surface joining them.
+  auto under_a_ray = [&](float r, float z, int ring) {
+    if (lower_far_r > r - p_.reach_slack_m) {
+      const float at = std::min(r, lower_far_r);
+      const float ray_z = p_.sensor_z + (lower_far_z - p_.sensor_z) * (at / lower_far_r);
+      if (ray_z < z - p_.under_ray_m) return true;
+    }
+    if (z <= last_z + p_.sky_climb_m) return false;
+    for (int between = last_ring + 1; between < ring; ++between) {
+      if (ray_reaches(column, between, r)) return true;
+    }
+    return false;
+  };
   profile_size_ = 0;
   add_to_profile(last_r, last_z);
   for (Index k = begin; k < end; ++k) {
     ColumnPoint& q = points_[k];
     const float r = q.r, z = q.z;
+    if (q.ring != ring_now) {
+      if (ring_far_r > lower_far_r) lower_far_r = ring_far_r, lower_far_z = ring_far_z;
+      ring_far_r = 0.f;
+      ring_now = q.ring;
+    }
+    if (r > ring_far_r) ring_far_r = r, ring_far_z = z;
     const float advance = r - last_r;
     // Beyond the last ground return the profile is extrapolated; nearer (a canopy or a
     // wall seen by a higher ring in front of ground already walked), it is interpolated.
@@ -216,11 +257,21 @@ void ColumnProfiles::walk_column(Index begin, Index end) {
       q.ground = std::abs(over) < p_.steep_band_m ||
                  (std::abs(q.plane_h) < p_.steep_band_m &&
                   (std::abs(over) < p_.plane_foot_m || profile_size_ == 1));
+      if (q.ground != 0 && under_a_ray(r, z, q.ring)) q.ground = 0;
       blocked = true;
       continue;
     }
     if (advance < p_.min_advance_m) {  // over or under ground already walked
       q.ground = over > -p_.label_down_m && over < p_.label_up_m;
+      // A ground return a little farther at a plausible gradient moves the profile's end
+      // there, keeping its gradient (the rings crowd on a bank face close to the sensor).
+      if (q.ground != 0 && advance > 0.f &&
+          std::abs(z - last_z) <= p_.max_gradient * advance + p_.anchor_slack_m) {
+        last_r = r;
+        last_z = z;
+        add_to_profile(r, z);
+        last_ring = q.ring;
+      }
       continue;
     }
     const float step = (z - last_z) / advance;  // gradient from the last ground return
@@ -240,10 +291,15 @@ void ColumnProfiles::walk_column(Index begin, Index end) {
     }
     // Past an obstacle, a return on a level-1 plane that explains its cell is ground too.
     if (!accept && blocked && std::abs(q.plane_h) <= p_.plane_band_m) accept = true;
+    const bool refused_here = !accept;
+    if (accept && under_a_ray(r, z, q.ring)) accept = false;
     if (!accept) {
-      // Refused only for an obstacle in front (a gentle enough rise): fill_shadows may
-      // take it from the ring.
-      q.shadowed = blocked && std::abs(step) <= p_.max_gradient ? 1 : 0;
+      // Refused only for an obstacle in front (a gentle enough rise, no ray under it):
+      // fill_shadows may take it from the ring.
+      q.shadowed = refused_here && blocked && std::abs(step) <= p_.max_gradient &&
+                           !under_a_ray(r, z, q.ring)
+                       ? 1
+                       : 0;
       blocked = true;
       continue;
     }
@@ -253,6 +309,7 @@ void ColumnProfiles::walk_column(Index begin, Index end) {
     add_to_profile(r, z);
     gradient = next_gradient;
     blocked = false;
+    last_ring = q.ring;
   }
 }
 
@@ -273,7 +330,11 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
       while (next < end && !neighbour(next)) ++next;
       const bool before = previous < end && raised(previous, 0.5f * p_.single_rise_m);
       const bool after = next < end && raised(next, 0.5f * p_.single_rise_m);
-      if (!before && !after) points_[k].ground = 0;
+      // Level with the ground return before it, or under it, the level-2 surface is what
+      // is off (a levee's shoulder over a cell fitted to the fields below).
+      const bool level = previous < end &&
+                         points_[k].z - points_[previous].z <= 0.5f * p_.single_rise_m;
+      if (!before && !after && !level) points_[k].ground = 0;
     }
     previous = k;
   }

@@ -34,11 +34,14 @@ struct ProfileParams {
   float start_rise_m = 0.25f, start_rise_per_m = 0.12f;
   float drop_m = 0.5f;         // a return this far under the profile starts a lower surface
   float min_advance_m = 0.3f;  // nearer than this (horizontally) to the last ground return
+  float anchor_slack_m = 0.05f;  // ... a ground return moves the profile's end at most
+                                 // max_gradient x advance + this up or down
   float steep_band_m = 0.06f;  // a steep return is ground only this close to the profile
   float label_up_m = 0.18f, label_down_m = 0.5f;  // band for returns that do not advance
   // A ground return more than this over the level-2 surface stays ground only when the
   // ground return before or after it in its column is raised too (a bank rises over
-  // several rings; a fence or a box side is one ring line).
+  // several rings; a fence or a box side is one ring line), or when it is at most half of
+  // this over the ground return before it (then the level-2 surface is what is off).
   float single_rise_m = 0.3f;
   // Past an obstacle a return this close to a level-1 plane that explains its cell is ground
   // (the plane is trusted where it explains the ground; the cells' own fits are not).
@@ -54,6 +57,14 @@ struct ProfileParams {
   float run_gap_m = 0.3f, run_gap_per_m = 0.02f;
   float silhouette_max_m = 6.f;
   int sky_columns = 3;
+  // Rays never pass under the ground (docs/detector.md, "Rays under the ground"): a return
+  // is not ground when the ray of a lower ring of its column reaches it (returns at most
+  // reach_slack_m nearer, or farther) more than under_ray_m under it, or when it climbs
+  // more than sky_climb_m over the last ground return while the ray of a ring between the
+  // two reached it or went to the sky (no return in its column, and none that ends short of
+  // it in either neighbour): that ray would have hit any surface joining them.
+  float under_ray_m = 0.2f, reach_slack_m = 0.1f;
+  float sky_climb_m = 0.5f;
   // Shadows along a ring: returns of a continuous run that the walk refused only because an
   // obstacle stood in front of them in their columns (a trunk, a box, a car near the
   // sensor) are ground when they lie within shadow_band_m of the line joining the run's
@@ -83,7 +94,8 @@ class ColumnProfiles {
   void gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
                         const std::vector<float>& level2_height,
                         const std::vector<float>& plane_height);
-  void walk_column(std::size_t begin, std::size_t end);
+  void walk_column(std::size_t column, std::size_t begin, std::size_t end);
+  [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
   void check_single_rises(std::size_t begin, std::size_t end);
   void follow_rings(const Cloud& cloud, std::vector<std::uint8_t>& ground) const;
   void fill_shadows(const Cloud& cloud, std::size_t begin, std::size_t end,
@@ -103,6 +115,7 @@ class ColumnProfiles {
   std::array<float, 2 * kLasers + 1> profile_r_{}, profile_z_{};
   std::size_t profile_size_ = 0;
   std::vector<std::uint32_t> column_start_, cursor_;
+  std::vector<float> ring_far_;  // per column and ring: farthest return's range (0: none)
   std::vector<ColumnPoint> points_;
   std::vector<std::uint8_t> shadowed_;  // ColumnPoint::shadowed by cloud point
 };

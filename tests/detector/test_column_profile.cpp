@@ -135,6 +135,29 @@ TEST_CASE("column profiles: a single ring raised over the level-2 surface is dro
   CHECK(label(s, s.cloud.z).ground == std::vector<std::uint8_t>{1, 1, 1, 0, 1});
 }
 
+TEST_CASE("column profiles: a return level with the ground before it is not a single rise",
+          "[detector][profiles]") {
+  // A levee: the road at 7 m, its shoulder at 8.4 m, the fields 1.9 m lower at 19.6 m. The
+  // level-2 cell under the shoulder was fitted to the fields: the shoulder is 1.86 m over
+  // it, with neither column neighbour raised, but level with the road before it.
+  Scan s;
+  add(s, 0, 0, 7.f, 0.f, 1);
+  add(s, 1, 0, 8.4f, -0.04f, 1);
+  add(s, 2, 0, 19.6f, -1.9f, 1);
+  CHECK(label(s, {0.f, 1.86f, 0.f}).ground == std::vector<std::uint8_t>{1, 1, 1});
+}
+
+TEST_CASE("column profiles: rings crowding on a bank face close by still move the profile",
+          "[detector][profiles]") {
+  // A bank face rising at 0.55 from 6.3 m: ring 1 is only 0.28 m past ring 0 (too close to
+  // take a gradient from), but it moves the profile's end; from ring 0, ring 2 would be
+  // over the allowance and the face lost.
+  Scan s;
+  const float r[] = {6.27f, 6.55f, 6.88f, 7.27f, 7.61f}, z[] = {0.1f, 0.26f, 0.44f, 0.63f, 0.84f};
+  for (int ring = 0; ring < 5; ++ring) add(s, ring, 0, r[ring], z[ring], 1);
+  CHECK(label(s).ground == std::vector<std::uint8_t>{1, 1, 1, 1, 1});
+}
+
 TEST_CASE("column profiles: past a car the ground resumes at a gentle slope, not on its roof",
           "[detector][profiles]") {
   // Ring 4 either the car's roof at 9.5 m, 1.5 m up, or terrain rising at 0.05 from the
@@ -170,6 +193,15 @@ TEST_CASE("column profiles: past an obstacle a level-1 plane that explains its c
 
 namespace {
 
+// One column (0) up a bank face rising at 0.3 from 6 m: rings 0-4 out to (10 m, 1.2 m).
+Scan bank_face() {
+  Scan s;
+  for (int ring = 0; ring <= 4; ++ring) {
+    add(s, ring, 0, 6.f + static_cast<float>(ring), 0.3f * static_cast<float>(ring), 1);
+  }
+  return s;
+}
+
 // A bowl z = 0.004 r^2 seen by five rings (6, 8, 11, 15, 20 m) over 60 columns 1 degree
 // apart; in columns 20-39 a box 5 m out hides rings 0-3 and ring 4 sees the bowl past it
 // at `shadow_z` (1.6 m: the bowl; higher: something standing on it).
@@ -190,6 +222,53 @@ Scan bowl_behind_box(float shadow_z) {
 }
 
 }  // namespace
+
+TEST_CASE("column profiles: a return a lower ring's ray passes under is not ground",
+          "[detector][profiles]") {
+  // Past the crest the ground falls away out of sight; rings 5 and 6 hit a car, ring 7 a
+  // bush top at 12 m, 1.65 m up, which the walk alone takes (under the extrapolated face,
+  // 0.45 m over the last ground return).
+  const auto bush = [](float car_r, float z5, float z6) {
+    Scan s = bank_face();
+    add(s, 5, 0, car_r, z5, 2);
+    add(s, 6, 0, car_r, z6, 2);
+    add(s, 7, 0, 12.f, 1.65f, 2);
+    return label(s).ground;
+  };
+  // The car at 20 m: ring 6's ray is 1.38 m up at 12 m, under the bush top: no ground.
+  CHECK(bush(20.f, 0.8f, 1.1f) == std::vector<std::uint8_t>{1, 1, 1, 1, 1, 0, 0, 0});
+  // The car at 11.5 m: no ray reaches 12 m, the walk's answer stands.
+  CHECK(bush(11.5f, 1.2f, 1.4f)[7] == 1);
+}
+
+TEST_CASE("column profiles: the top of a steep pair is not the foot of a wall",
+          "[detector][profiles]") {
+  // A wall at 11 m: ring 5 at 1.2 m, ring 6 right above it exactly on the extrapolated
+  // face (the foot-of-a-wall band would take it); ring 5's return is 0.3 m under it.
+  Scan s = bank_face();
+  add(s, 5, 0, 11.f, 1.2f, 2);
+  add(s, 6, 0, 11.05f, 1.2f + 0.3f * 1.05f, 2);
+  CHECK(label(s).ground == std::vector<std::uint8_t>{1, 1, 1, 1, 1, 0, 0});
+}
+
+TEST_CASE("column profiles: no climb past a ring that went to the sky",
+          "[detector][profiles]") {
+  // Rings 5 and 6 have no return; ring 7 hits a crown at 30 m, 5 m up (3.8 m over the last
+  // ground return, under the extrapolated face: the walk alone takes it as a lower
+  // surface). Either ring's ray would have hit any surface joining the two.
+  const auto crown_past_sky = [](bool neighbour_hit_short) {
+    Scan s = bank_face();
+    add(s, 7, 0, 30.f, 5.f, 2);
+    // In column 1, rings 5 and 6 hit something at 11 m: in column 0 they may have dropped out.
+    if (neighbour_hit_short) {
+      add(s, 5, 1, 11.f, 2.f, 2);
+      add(s, 6, 1, 11.f, 2.4f, 2);
+    }
+    return label(s).ground[5];
+  };
+  CHECK(crown_past_sky(false) == 0);
+  CHECK(crown_past_sky(true) == 1);
+}
 
 TEST_CASE("column profiles: a ring's ground across the shadow of an obstacle is ground",
           "[detector][profiles]") {
