@@ -279,6 +279,9 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
     float next_gradient = 0.f;
     if (over < -p_.drop_m) {  // a lower surface (fields below a levee): level from here
       accept = true;
+      // ... unless it still rises from the last ground return, bending no more than at any
+      // return: a hill's shoulder, rising on at the measured gradient.
+      if (step >= p_.shoulder_gradient && step >= gradient - p_.gradient_step) next_gradient = step;
     } else {
       const float rise = blocked           ? p_.blocked_rise_m + p_.blocked_rise_per_m * advance
                          : profile_size_ == 1 ? p_.start_rise_m + p_.start_rise_per_m * advance

@@ -33,6 +33,9 @@ struct ProfileParams {
   // ... and for the first return of a column, from the ground under the sensor.
   float start_rise_m = 0.25f, start_rise_per_m = 0.12f;
   float drop_m = 0.5f;         // a return this far under the profile starts a lower surface
+  // ... level, unless it still rises at least this from the last ground return (and the
+  // gradient bends no more than gradient_step): a hill's shoulder keeps that gradient.
+  float shoulder_gradient = 0.1f;
   float min_advance_m = 0.3f;  // nearer than this (horizontally) to the last ground return
   float anchor_slack_m = 0.05f;  // ... a ground return moves the profile's end at most
                                  // max_gradient x advance + this up or down

@@ -290,3 +290,26 @@ TEST_CASE("column profiles: a ring's ground across the shadow of an obstacle is 
     CHECK(shadow_ground == (z < 1.7f ? 20 : 0));
   }
 }
+
+TEST_CASE("column profiles: a return under the profile but above the last ground keeps rising",
+          "[detector][profiles]") {
+  // A hill's shoulder (sim hills, seed 4): the climb at 0.32 flattens to 0.2 between
+  // rings 10 and 11 (ring 11 is 1 m under the extrapolated climb, a "lower surface"), and
+  // ring 12 rises on at 0.26 past it. Levelled at ring 11, ring 12 would be 2.7 m over.
+  const float r[] = {6.59f, 7.42f, 8.29f, 9.33f, 10.36f, 11.49f, 12.72f,
+                     14.06f, 15.60f, 17.37f, 19.93f, 28.48f, 38.90f};
+  const float z[] = {0.02f, 0.07f, 0.17f, 0.30f, 0.51f, 0.77f, 1.11f,
+                     1.53f, 2.05f, 2.68f, 3.51f, 5.26f, 7.93f};
+  Scan s;
+  for (int ring = 0; ring < 13; ++ring) add(s, ring, 0, r[ring], z[ring], 1);
+  // The level-2 surface follows the ground (the single-rise check stays out of it).
+  CHECK(label(s, std::vector<float>(s.cloud.size(), 0.f)).ground ==
+        std::vector<std::uint8_t>(13, 1));
+  // Fields below a levee stay level: past the levee's side ring 2 is on the fields, and
+  // ring 3 on them too (a falling step keeps the lower surface level).
+  Scan levee;
+  const float lr[] = {6.f, 8.f, 14.f, 18.f}, lz[] = {0.f, -0.6f, -2.f, -2.f};
+  for (int ring = 0; ring < 4; ++ring) add(levee, ring, 0, lr[ring], lz[ring], 1);
+  CHECK(label(levee, std::vector<float>(levee.cloud.size(), 0.f)).ground ==
+        std::vector<std::uint8_t>(4, 1));
+}
