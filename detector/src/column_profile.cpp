@@ -337,7 +337,14 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
       // is off (a levee's shoulder over a cell fitted to the fields below).
       const bool level = previous < end &&
                          points_[k].z - points_[previous].z <= 0.5f * p_.single_rise_m;
-      if (!before && !after && !level) points_[k].ground = 0;
+      // On or under the chord joining the ground returns before and after it, it is no
+      // bump in the column (a fence line stands over that chord by its height).
+      const bool on_chord = previous < end && next < end && [&] {
+        const ColumnPoint &a = points_[previous], &b = points_[next], &q = points_[k];
+        const float t = b.r > a.r ? std::clamp((q.r - a.r) / (b.r - a.r), 0.f, 1.f) : 0.f;
+        return q.z - (a.z + t * (b.z - a.z)) <= 0.5f * p_.single_rise_m;
+      }();
+      if (!before && !after && !level && !on_chord) points_[k].ground = 0;
     }
     previous = k;
   }

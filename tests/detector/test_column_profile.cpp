@@ -313,3 +313,16 @@ TEST_CASE("column profiles: a return under the profile but above the last ground
   CHECK(label(levee, std::vector<float>(levee.cloud.size(), 0.f)).ground ==
         std::vector<std::uint8_t>(4, 1));
 }
+
+TEST_CASE("column profiles: a return on the chord of its column's ground is no single rise",
+          "[detector][profiles]") {
+  // A valley's far side (sim hills, seed 4): ring 6 is 0.35 m over a level-2 cell that is
+  // off there, its neighbours are not; it lies under the chord joining rings 5 and 7.
+  const float r[] = {7.15f, 8.42f, 10.12f, 12.47f, 15.41f, 18.82f, 22.45f, 26.34f, 30.92f};
+  const float z[] = {-0.13f, -0.16f, -0.19f, -0.19f, -0.11f, 0.13f, 0.60f, 1.31f, 2.31f};
+  Scan s;
+  for (int ring = 0; ring < 9; ++ring) add(s, ring, 0, r[ring], z[ring], 1);
+  std::vector<float> level2(s.cloud.size(), 0.f);
+  level2[6] = 0.35f;
+  CHECK(label(s, level2).ground == std::vector<std::uint8_t>(9, 1));
+}
