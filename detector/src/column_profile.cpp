@@ -150,10 +150,7 @@ void ColumnProfiles::gather_by_column(const Cloud& cloud, const std::uint8_t* st
   for (Index c = 1; c < column_start_.size(); ++c) column_start_[c] += column_start_[c - 1];
   cursor_.assign(column_start_.begin(), column_start_.end() - 1);
   points_.resize(cloud.size());
-  ring_far_.assign(static_cast<Index>(columns) * kLasers, 0.f);
   for (Index i = 0; i < cloud.size(); ++i) {
-    float& far = ring_far_[static_cast<Index>(cloud.column[i]) * kLasers + cloud.ring[i]];
-    far = std::max(far, cloud.range_xy[i]);
     ColumnPoint& q = points_[cursor_[cloud.column[i]]++];
     q = {cloud.range_xy[i], cloud.z[i], level2_height[i], plane_height[i], 0.f,
          static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(cloud.ring[i]), steep[i], 0};
@@ -196,11 +193,18 @@ float ColumnProfiles::profile_at(float r) const {
 // more than reach_slack_m short of r, or it has none (the sky) and neither neighbour
 // column has one short of r (else it may have dropped out).
 bool ColumnProfiles::ray_reaches(Index column, int ring, float r) const {
-  const auto far = [&](Index c) { return ring_far_[c * kLasers + static_cast<Index>(ring)]; };
+  // The ring's farthest return in column c (0: none); a column is sorted by ring and range.
+  const auto far = [&](Index c) {
+    float farthest = 0.f;
+    for (Index k = column_start_[c]; k < column_start_[c + 1] && points_[k].ring <= ring; ++k) {
+      if (points_[k].ring == ring) farthest = points_[k].r;
+    }
+    return farthest;
+  };
   const float reach = r - p_.reach_slack_m;
   const float here = far(column);
   if (here > 0.f) return here > reach;
-  const Index columns = ring_far_.size() / kLasers;
+  const Index columns = column_start_.size() - 1;
   const auto short_of = [&](Index c) { return far(c) > 0.f && far(c) <= reach; };
   return !(column > 0 && short_of(column - 1)) && !(column + 1 < columns && short_of(column + 1));
 }

@@ -118,7 +118,6 @@ class ColumnProfiles {
   std::array<float, 2 * kLasers + 1> profile_r_{}, profile_z_{};
   std::size_t profile_size_ = 0;
   std::vector<std::uint32_t> column_start_, cursor_;
-  std::vector<float> ring_far_;  // per column and ring: farthest return's range (0: none)
   std::vector<ColumnPoint> points_;
   std::vector<std::uint8_t> shadowed_;  // ColumnPoint::shadowed by cloud point
 };

@@ -95,6 +95,18 @@ class TerrainCells {
     const int row = bin / p_.bins, col = bin % p_.bins;
     return replace_[static_cast<std::size_t>((row / p_.cell_bins) * side_ + col / p_.cell_bins)] != 0;
   }
+  /// replaced_bin() of every bin (row-major), without a division per bin.
+  void replaced_bins(std::vector<std::uint8_t>& out) const {
+    out.resize(static_cast<std::size_t>(p_.bins) * static_cast<std::size_t>(p_.bins));
+    std::size_t bin = 0;
+    for (int row = 0; row < p_.bins; ++row) {
+      const std::uint8_t* cells = replace_.data() + static_cast<std::size_t>(row / p_.cell_bins * side_);
+      for (int col = 0, cell = 0, in_cell = 0; col < p_.bins; ++col, ++bin) {
+        out[bin] = cells[cell] != 0 ? 1 : 0;
+        if (++in_cell == p_.cell_bins) in_cell = 0, ++cell;
+      }
+    }
+  }
   /// The surface of the cell under the sensor (valid once a fit replaced a cell).
   [[nodiscard]] const HeightPlane& vehicle_surface() const { return surface_[vehicle_cell_]; }
 
