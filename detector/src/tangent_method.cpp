@@ -288,10 +288,8 @@ class TangentMethod final : public Method {
     // Heights over a level-1 plane that explains its cell (fitting area only).
     const std::vector<std::int32_t>& bin = binning_.point_bin();
     plane_height_.resize(cloud.size());
-    if (with_cells) cells_.replaced_bins(replaced_);
     for (Index i = 0; i < cloud.size(); ++i) {
-      const bool trusted =
-          with_cells && bin[i] >= 0 && replaced_[static_cast<std::size_t>(bin[i])] == 0;
+      const bool trusted = with_cells && bin[i] >= 0 && !cells_.replaced_bin(bin[i]);
       plane_height_[i] = trusted ? height_[i] : std::nanf("");
     }
     profiles_.label(cloud, steep_.data(), plane_height_, pp, ground_, height_);
@@ -348,7 +346,6 @@ class TangentMethod final : public Method {
   TerrainCells cells_;
   ColumnProfiles profiles_;
   std::vector<float> plane_height_;
-  std::vector<std::uint8_t> replaced_;  // per bin: in a cell level 2 replaced
   bool own_[4] = {false, false, false, false};
   std::vector<std::uint8_t> support_, ground_;
   std::vector<float> height_;

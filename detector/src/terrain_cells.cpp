@@ -485,6 +485,16 @@ void TerrainCells::fit(const Candidates& cand, const std::vector<std::int32_t>& 
                        const SegmentPlanes& level1, const CellParams& params) {
   p_ = params;
   side_ = (p_.bins + p_.cell_bins - 1) / p_.cell_bins;
+  if (table_bins_ != p_.bins || table_cell_bins_ != p_.cell_bins) {
+    cell_of_bin_.resize(idx(p_.bins * p_.bins));
+    for (int row = 0; row < p_.bins; ++row) {
+      for (int col = 0; col < p_.bins; ++col) {
+        cell_of_bin_[idx(row * p_.bins + col)] = (row / p_.cell_bins) * side_ + col / p_.cell_bins;
+      }
+    }
+    table_bins_ = p_.bins;
+    table_cell_bins_ = p_.cell_bins;
+  }
   const Index cells = idx(side_ * side_);
   surface_.assign(cells, HeightPlane{});
   state_.assign(cells, CellState::unvisited);
@@ -589,6 +599,11 @@ void TerrainCells::fit(const Candidates& cand, const std::vector<std::int32_t>& 
     const float inv = 1.f / static_cast<float>(count);
     settle(cell, {mean.c * inv, mean.gx * inv, mean.gy * inv}, false);
   }
+  normal_.resize(surface_.size());
+  for (Index c = 0; c < surface_.size(); ++c) {
+    const Normal n(surface_[c]);
+    normal_[c] = {n.x, n.y, n.z};
+  }
 }
 
 void TerrainCells::relabel(const Cloud& cloud, const PointFacts& facts, const LabelRule& rule,
@@ -596,24 +611,24 @@ void TerrainCells::relabel(const Cloud& cloud, const PointFacts& facts, const La
   if (replaced_ == 0) return;
   const Tangents& t = *facts.tangents;
   const float cell_m = static_cast<float>(p_.cell_bins) * p_.bin_m;
-  auto ground_by = [&](const HeightPlane& s, Index i, float& h) {
-    const Normal n(s);
-    h = (cloud.z[i] - s.at(cloud.x[i], cloud.y[i])) * n.z;  // distance along the normal
+  auto ground_by = [&](int cell, Index i, float& h) {
+    const HeightPlane& s = surface_[idx(cell)];
+    const std::array<float, 3>& n = normal_[idx(cell)];
+    h = (cloud.z[i] - s.at(cloud.x[i], cloud.y[i])) * n[2];  // distance along the normal
     const float up = facts.steep[i] != 0 ? std::min(rule.up, rule.steep_up) : rule.up;
-    const float dot = n.x * t.x[i] + n.y * t.y[i] + n.z * t.z[i];
+    const float dot = n[0] * t.x[i] + n[1] * t.y[i] + n[2] * t.z[i];
     return h < up && h > -rule.down && (t.valid[i] == 0 || absolute(dot) < rule.sin_label);
   };
   for (Index i = 0; i < cloud.size(); ++i) {
     const std::int32_t bin = facts.bin[i];
     if (bin < 0) continue;
-    const int col = bin % p_.bins, row = bin / p_.bins;
-    const int cc = col / p_.cell_bins, cr = row / p_.cell_bins;
-    const int cell = cr * side_ + cc;
+    const int cell = cell_of_bin_[idx(bin)];
     if (replace_[idx(cell)] == 0) continue;
     float h = 0;
-    bool is_ground = ground_by(surface_[idx(cell)], i, h);
+    bool is_ground = ground_by(cell, i, h);
     height[i] = h;
     if (!is_ground) {  // near a cell edge the neighbour's surface may accept
+      const int cc = cell % side_, cr = cell / side_;
       const float fx = (cloud.x[i] - p_.x_lo) / cell_m - static_cast<float>(cc);
       const float fy = (cloud.y[i] - p_.y_lo) / cell_m - static_cast<float>(cr);
       const float soft = kSoftEdge_m / cell_m;
@@ -623,7 +638,7 @@ void TerrainCells::relabel(const Cloud& cloud, const PointFacts& facts, const La
       for (const int n : {x_ok ? cr * side_ + nx : -1, y_ok ? ny * side_ + cc : -1}) {
         if (n < 0 || state_[idx(n)] == CellState::unvisited) continue;
         float hn = 0;
-        if (ground_by(surface_[idx(n)], i, hn)) {
+        if (ground_by(n, i, hn)) {
           is_ground = true;
           height[i] = hn;
           break;

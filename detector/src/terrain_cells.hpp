@@ -92,20 +92,7 @@ class TerrainCells {
   /// True when fitting bin `bin` (row * bins + col) lies in a cell whose surface replaces
   /// the level-1 plane.
   [[nodiscard]] bool replaced_bin(int bin) const {
-    const int row = bin / p_.bins, col = bin % p_.bins;
-    return replace_[static_cast<std::size_t>((row / p_.cell_bins) * side_ + col / p_.cell_bins)] != 0;
-  }
-  /// replaced_bin() of every bin (row-major), without a division per bin.
-  void replaced_bins(std::vector<std::uint8_t>& out) const {
-    out.resize(static_cast<std::size_t>(p_.bins) * static_cast<std::size_t>(p_.bins));
-    std::size_t bin = 0;
-    for (int row = 0; row < p_.bins; ++row) {
-      const std::uint8_t* cells = replace_.data() + static_cast<std::size_t>(row / p_.cell_bins * side_);
-      for (int col = 0, cell = 0, in_cell = 0; col < p_.bins; ++col, ++bin) {
-        out[bin] = cells[cell] != 0 ? 1 : 0;
-        if (++in_cell == p_.cell_bins) in_cell = 0, ++cell;
-      }
-    }
+    return replace_[static_cast<std::size_t>(cell_of_bin_[static_cast<std::size_t>(bin)])] != 0;
   }
   /// The surface of the cell under the sensor (valid once a fit replaced a cell).
   [[nodiscard]] const HeightPlane& vehicle_surface() const { return surface_[vehicle_cell_]; }
@@ -136,6 +123,10 @@ class TerrainCells {
   std::vector<HeightPlane> surface_;
   std::vector<CellState> state_;
   std::vector<std::uint8_t> replace_;
+  // The cell of every bin (row-major), made when the grid changes: no division per return.
+  std::vector<std::int32_t> cell_of_bin_;
+  int table_bins_ = 0, table_cell_bins_ = 0;
+  std::vector<std::array<float, 3>> normal_;  // per cell: unit normal of its surface
   bool segment_explained_[4] = {false, false, false, false};
   // Scoring candidates around the sensor with a tangent, gathered for the seed's search.
   struct NearPoints {
