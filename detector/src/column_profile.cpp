@@ -292,7 +292,11 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
                                               : p_.rise_m + p_.rise_per_m * advance;
       // Past an obstacle the ground may have risen out of sight: a gentle slope from the
       // last ground return is taken (a car roof is a steep step from it).
-      const bool resumes = blocked && std::abs(step - gradient) <= p_.resume_gradient_change;
+      // Before any ground return of the column the profile's gradient is only the start's
+      // guess: resuming on it needs the level-2 surface not to disagree (a car roof seen
+      // past a car side next to the sensor, in a jam).
+      const bool resumes = blocked && std::abs(step - gradient) <= p_.resume_gradient_change &&
+                           (profile_size_ > 1 || !(std::abs(q.level2_h) > p_.single_rise_m));
       accept = std::abs(step) <= p_.max_gradient && (over <= rise || resumes);
       next_gradient = std::clamp(step, gradient - p_.gradient_step, gradient + p_.gradient_step);
     }

@@ -166,6 +166,30 @@ TEST_CASE("column profiles: past a car the ground resumes at a gentle slope, not
   CHECK(label(car_then(20.f, 0.7f, 1)).ground == std::vector<std::uint8_t>{1, 0, 0, 0, 1});
 }
 
+TEST_CASE("column profiles: no resume on the start's guess where level 2 disagrees",
+          "[detector][profiles]") {
+  // A car side next to the sensor (rings 0-3 at 5.8 m, steep), then rings 4 and 5 at
+  // 19.5 m and 25.5 m, 0.88 m and 1.46 m up: gentle slopes from the start under the sensor
+  // (0.045, 0.057), over the allowance past an obstacle. Car roofs in a jam when the level-2
+  // surface is as far under them; ground when that surface runs through them (or is
+  // unknown).
+  const auto roof_or_ground = [](float level2_h) {
+    Scan s;
+    for (int ring = 0; ring <= 3; ++ring) {
+      add(s, ring, 0, 5.8f, 0.3f + 0.25f * static_cast<float>(ring), 2);
+    }
+    add(s, 4, 0, 19.5f, 0.88f, 2);
+    add(s, 5, 0, 25.5f, 1.46f, 2);
+    std::vector<float> level2(s.cloud.size(), 0.f);
+    level2[4] = std::isnan(level2_h) ? level2_h : level2_h * 0.88f;
+    level2[5] = std::isnan(level2_h) ? level2_h : level2_h * 1.46f;
+    return label(s, level2).ground[4];
+  };
+  CHECK(roof_or_ground(1.f) == 0);
+  CHECK(roof_or_ground(0.f) == 1);
+  CHECK(roof_or_ground(std::nanf("")) == 1);
+}
+
 TEST_CASE("column profiles: a canopy in front of ground already walked is not ground",
           "[detector][profiles]") {
   Scan s;
