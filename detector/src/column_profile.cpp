@@ -205,7 +205,10 @@ bool ColumnProfiles::ray_reaches(Index column, int ring, float r) const {
   const float here = far(column);
   if (here > 0.f) return here > reach;
   const Index columns = column_start_.size() - 1;
-  const auto short_of = [&](Index c) { return far(c) > 0.f && far(c) <= reach; };
+  const auto short_of = [&](Index c) {
+    const float farthest = far(c);
+    return farthest > 0.f && farthest <= reach;
+  };
   return !(column > 0 && short_of(column - 1)) && !(column + 1 < columns && short_of(column + 1));
 }
 

@@ -44,7 +44,8 @@ struct ProfileParams {
   // A ground return more than this over the level-2 surface stays ground only when the
   // ground return before or after it in its column is raised too (a bank rises over
   // several rings; a fence or a box side is one ring line), or when it is at most half of
-  // this over the ground return before it (then the level-2 surface is what is off).
+  // this over the ground return before it or over the chord joining the ground returns
+  // before and after it (then the level-2 surface is what is off).
   float single_rise_m = 0.3f;
   // Past an obstacle a return this close to a level-1 plane that explains its cell is ground
   // (the plane is trusted where it explains the ground; the cells' own fits are not).
@@ -60,7 +61,7 @@ struct ProfileParams {
   float run_gap_m = 0.3f, run_gap_per_m = 0.02f;
   float silhouette_max_m = 6.f;
   int sky_columns = 3;
-  // Rays never pass under the ground (docs/detector.md, "Rays under the ground"): a return
+  // Rays never pass under the ground (docs/detector.md, "Column profiles", rule 6): a return
   // is not ground when the ray of a lower ring of its column reaches it (returns at most
   // reach_slack_m nearer, or farther) more than under_ray_m under it, or when it climbs
   // more than sky_climb_m over the last ground return while the ray of a ring between the

@@ -145,7 +145,7 @@ int TerrainCells::cell_of(float x, float y) const {
       std::clamp(static_cast<int>(std::floor((x - p_.x_lo) / p_.bin_m)), 0, p_.bins - 1);
   const int row =
       std::clamp(static_cast<int>(std::floor((y - p_.y_lo) / p_.bin_m)), 0, p_.bins - 1);
-  return (row / p_.cell_bins) * side_ + col / p_.cell_bins;
+  return cell_of_bin_[idx(row * p_.bins + col)];
 }
 
 // Bins [c0, c1) x [r0, r1) of a cell and its centre.
