@@ -215,6 +215,22 @@ bool ColumnProfiles::ray_reaches(Index column, int ring, float r) const {
   return !(column > 0 && short_of(column - 1)) && !(column + 1 < columns && short_of(column + 1));
 }
 
+// Whether the column's next return beyond return k (points [k + 1, end)) bends on the way
+// the chord to k did: a chord whose gradient `step` lies `bend` above the profile's (below,
+// when negative) crossed terrain curving up (down), which goes on rising at least as
+// steeply as the chord (no more steeply). A steep next return, or none, does not.
+bool ColumnProfiles::bends_on(Index k, Index end, float step, float bend) const {
+  const ColumnPoint& q = points_[k];
+  for (Index j = k + 1; j < end; ++j) {
+    const ColumnPoint& next = points_[j];
+    if (next.r < q.r + p_.min_advance_m) continue;
+    const float gradient = (next.z - q.z) / (next.r - q.r);
+    if (next.steep != 0 || std::abs(gradient) > p_.max_gradient) return false;
+    return bend > 0.f ? gradient >= step : gradient <= step;
+  }
+  return false;
+}
+
 // One column outwards from the sensor. The profile is the last ground return (r, z) and
 // the gradient dz/dr along the column, starting at the ground under the sensor.
 void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
@@ -225,6 +241,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
   float last_r = 0.f;
   float last_z = start_z_;
   float gradient = 0.f;
+  float gradient_r = 0.f;  // where the gradient holds (the start: level under the vehicle)
   bool blocked = false;  // an obstacle return since the last ground return
   int last_ring = -1;    // ring of the last ground return (-1: the start)
   // The farthest return of the rings below the current one, and of the current ring.
@@ -244,6 +261,14 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       if (ray_reaches(column, between, r)) return true;
     }
     return false;
+  };
+  // Resuming on a gradient that is only the start's guess, which terrain curvature may have
+  // bent over `drift` metres since the point where it holds (resume_curvature_per_m).
+  auto resumes_bent = [&](Index k, float step, float drift) {
+    const float bend = step - gradient;
+    return profile_size_ <= 2 && std::abs(points_[k].level2_h) <= p_.single_rise_m &&
+           std::abs(bend) <= p_.resume_gradient_change + p_.resume_curvature_per_m * std::max(0.f, drift) &&
+           bends_on(k, end, step, bend);
   };
   profile_size_ = 0;
   add_to_profile(last_r, last_z);
@@ -287,11 +312,16 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
     const float step = (z - last_z) / advance;  // gradient from the last ground return
     bool accept = false;
     float next_gradient = 0.f;
+    float next_gradient_r = 0.5f * (last_r + r);  // a chord's gradient holds at its middle
     if (over < -p_.drop_m) {  // a lower surface (fields below a levee): level from here
       accept = true;
       // ... unless it still rises from the last ground return, bending no more than at any
       // return: a hill's shoulder, rising on at the measured gradient.
-      if (step >= p_.shoulder_gradient && step >= gradient - p_.gradient_step) next_gradient = step;
+      if (step >= p_.shoulder_gradient && step >= gradient - p_.gradient_step) {
+        next_gradient = step;
+      } else {
+        next_gradient_r = r;
+      }
     } else {
       const float rise = blocked           ? p_.blocked_rise_m + p_.blocked_rise_per_m * advance
                          : profile_size_ == 1 ? p_.start_rise_m + p_.start_rise_per_m * advance
@@ -301,8 +331,9 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       // Before any ground return of the column the profile's gradient is only the start's
       // guess: resuming on it needs the level-2 surface not to disagree (a car roof seen
       // past a car side next to the sensor, in a jam).
-      const bool resumes = blocked && std::abs(step - gradient) <= p_.resume_gradient_change &&
-                           (profile_size_ > 1 || !(std::abs(q.level2_h) > p_.single_rise_m));
+      const bool resumes = blocked && (std::abs(step - gradient) <= p_.resume_gradient_change
+                                           ? profile_size_ > 1 || !(std::abs(q.level2_h) > p_.single_rise_m)
+                                           : resumes_bent(k, step, 0.5f * (last_r + r) - gradient_r));
       accept = std::abs(step) <= p_.max_gradient && (over <= rise || resumes);
       next_gradient = std::clamp(step, gradient - p_.gradient_step, gradient + p_.gradient_step);
     }
@@ -329,6 +360,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
     last_z = z;
     add_to_profile(r, z);
     gradient = next_gradient;
+    gradient_r = next_gradient_r;
     blocked = false;
     last_ring = q.ring;
   }

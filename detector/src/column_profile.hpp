@@ -30,6 +30,14 @@ struct ProfileParams {
   float rise_m = 0.25f, rise_per_m = 0.12f;
   float blocked_rise_m = 0.25f, blocked_rise_per_m = 0.03f;
   float resume_gradient_change = 0.06f;  // ... or a return this close to the profile's gradient
+  // While that gradient is only the start's guess (fewer than two ground returns of the
+  // column: a Puck Hi-Res's lowest ring meets level ground 11 m out, often behind the first
+  // obstacle), the terrain may have bent since the point where the gradient holds: by up to
+  // this curvature (1/m; a 1 m undulation over a 40 m wavelength) x the distance from that
+  // point to the middle of the chord from the last ground return. Taken only where the
+  // level-2 surface agrees (within single_rise_m) and the column's next return goes on
+  // bending (bends_on).
+  float resume_curvature_per_m = 0.025f;
   // ... and for the first return of a column, from the ground under the sensor.
   float start_rise_m = 0.25f, start_rise_per_m = 0.12f;
   float drop_m = 0.5f;         // a return this far under the profile starts a lower surface
@@ -104,6 +112,7 @@ class ColumnProfiles {
                         const std::vector<float>& plane_height);
   void walk_column(std::size_t column, std::size_t begin, std::size_t end);
   [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
+  [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
   void check_single_rises(std::size_t begin, std::size_t end);
   void follow_rings(const Cloud& cloud, std::vector<std::uint8_t>& ground) const;
   void fill_shadows(const Cloud& cloud, std::size_t begin, std::size_t end,

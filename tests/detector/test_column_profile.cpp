@@ -399,3 +399,35 @@ TEST_CASE("column profiles: a ring grazing a levee's side under the vehicle's gr
   // box stays a single rise.
   CHECK(grazing(1.3f) == 0);
 }
+
+TEST_CASE("column profiles: past an obstacle on the start's guess, the ground may have bent",
+          "[detector][profiles]") {
+  // A hill behind a bush (sim hills, seed 4, Puck Hi-Res): the lowest ring meets the ground
+  // at 8.5 m, rings 1-6 the bush just behind it, and rings 7-11 the hill rising at 0.26-0.33
+  // from 13.8 m. The profile's gradient is only the chord from the level start (0.03): ring 7
+  // is 1.2 m over it, far over the allowance past an obstacle, and 0.22 steeper than it.
+  // Terrain curving up bends the chord that much over the 11 m since the start; the hill
+  // goes on rising at least as steeply past ring 7.
+  const float r[] = {13.75f, 14.77f, 15.95f, 17.43f, 19.8f};
+  const float z[] = {1.61f, 1.95f, 2.33f, 2.78f, 3.38f};
+  const auto hill_behind_bush = [&](float level2_h, bool levels_off) {
+    Scan s;
+    add(s, 0, 0, 8.54f, 0.28f, 1);
+    for (int ring = 1; ring <= 6; ++ring) {
+      add(s, ring, 0, 8.85f, 0.28f + 0.2f * static_cast<float>(ring), 2);
+    }
+    for (int k = 0; k < 5; ++k) {
+      // levels_off: a roof or a fence top past ring 7, level with it (no hill)
+      add(s, 7 + k, 0, r[k], levels_off && k > 0 ? z[0] : z[k], 1);
+    }
+    std::vector<float> level2(s.cloud.size(), 0.f);
+    level2[7] = level2_h;
+    return label(s, level2).ground;
+  };
+  CHECK(hill_behind_bush(0.f, false) ==
+        std::vector<std::uint8_t>{1, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1});
+  // Where the level-2 surface lies 0.5 m under ring 7, or the surface past it stops bending
+  // up, ring 7 is something standing there, as before.
+  CHECK(hill_behind_bush(0.5f, false)[7] == 0);
+  CHECK(hill_behind_bush(0.f, true)[7] == 0);
+}
