@@ -318,6 +318,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       continue;
     }
     q.ground = 1;
+    q.bend = step - gradient;
     last_r = r;
     last_z = z;
     add_to_profile(r, z);
@@ -327,7 +328,8 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
   }
 }
 
-// A ground return raised over the level-2 surface needs a raised ground neighbour in its
+// A ground return raised over the level-2 surface (by single_rise_m, or by kink_rise_m when
+// it bent the profile up by more than kink_gradient) needs a raised ground neighbour in its
 // column (the ground return before or after it along the profile; a return on a steep
 // surface taken for the foot of a wall does not count).
 void ColumnProfiles::check_single_rises(Index begin, Index end) {
@@ -339,7 +341,8 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
   Index previous = end;  // previous ground return of the column
   for (Index k = begin; k < end; ++k) {
     if (!neighbour(k)) continue;
-    if (raised(k, p_.single_rise_m)) {
+    const float rise = points_[k].bend > p_.kink_gradient ? p_.kink_rise_m : p_.single_rise_m;
+    if (raised(k, rise)) {
       Index next = k + 1;
       while (next < end && !neighbour(next)) ++next;
       const bool before = previous < end && raised(previous, 0.5f * p_.single_rise_m);

@@ -135,6 +135,23 @@ TEST_CASE("column profiles: a single ring raised over the level-2 surface is dro
   CHECK(label(s, s.cloud.z).ground == std::vector<std::uint8_t>{1, 1, 1, 0, 1});
 }
 
+TEST_CASE("column profiles: a low line that kinks the profile up is a single rise",
+          "[detector][profiles]") {
+  // Sim fences (seed 103, where rings 4-6 each meet a low fence): ground to 12 m, then a
+  // fence line 1.1 m farther and 0.26 m up, under single_rise_m over the level-2 surface;
+  // ground again at 20 m. Reached by a kink (the gradient bends up by 0.24), it is dropped.
+  Scan fence;
+  const float fr[] = {6.f, 8.f, 10.f, 12.f, 13.1f, 20.f}, fz[] = {0, 0, 0, 0, 0.26f, 0};
+  for (int ring = 0; ring < 6; ++ring) add(fence, ring, 0, fr[ring], fz[ring], ring == 4 ? 2 : 1);
+  CHECK(label(fence, fence.cloud.z).ground == std::vector<std::uint8_t>{1, 1, 1, 1, 0, 1});
+  // The same height over a level-2 surface that misses a gentle rise (bending a few
+  // hundredths at each ring) stays ground.
+  Scan hill;
+  const float hr[] = {6.f, 8.f, 10.f, 12.f}, hz[] = {0, 0.06f, 0.2f, 0.4f};
+  for (int ring = 0; ring < 4; ++ring) add(hill, ring, 0, hr[ring], hz[ring], 1);
+  CHECK(label(hill, {0, 0, 0, 0.26f}).ground == std::vector<std::uint8_t>(4, 1));
+}
+
 TEST_CASE("column profiles: a return level with the ground before it is not a single rise",
           "[detector][profiles]") {
   // A levee: the road at 7 m, its shoulder at 8.4 m, the fields 1.9 m lower at 19.6 m. The
