@@ -19,6 +19,7 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
                            const std::vector<float>& plane_height, const ProfileParams& params,
                            std::vector<std::uint8_t>& ground, std::vector<float>& height) {
   p_ = params;
+  start_z_ = p_.sensor_z > 0.f ? 0.f : p_.vehicle.at(p_.sensor_x, p_.sensor_y);
   gather_by_column(cloud, steep, height, plane_height);  // height: over level 2 until here
   for (Index c = 0; c + 1 < column_start_.size(); ++c) {
     walk_column(c, column_start_[c], column_start_[c + 1]);
@@ -64,7 +65,9 @@ void ColumnProfiles::follow_rings(const Cloud& cloud, std::vector<std::uint8_t>&
 // far side of a bowl, a hill behind a tree). The ring itself runs on across the shadow: a
 // stretch of such returns with ground on both sides is ground where it lies on the line
 // joining that ground. The ground on each side must be seen over shadow_anchor_m, so that
-// a lone ground return on a fence line anchors nothing.
+// a lone ground return on a fence line anchors nothing. Single rises (rule 4) under the
+// ground the vehicle stands on are taken the same way: a ring grazing a levee's side where
+// the level-2 surface was fitted to the fields below.
 void ColumnProfiles::fill_shadows(const Cloud& cloud, Index begin, Index end,
                                   std::vector<std::uint8_t>& ground) const {
   Index anchor = end;  // last return of a long enough ground stretch before a shadow
@@ -212,6 +215,22 @@ bool ColumnProfiles::ray_reaches(Index column, int ring, float r) const {
   return !(column > 0 && short_of(column - 1)) && !(column + 1 < columns && short_of(column + 1));
 }
 
+// Whether the column's next return beyond return k (points [k + 1, end)) bends on the way
+// the chord to k did: a chord whose gradient `step` lies `bend` above the profile's (below,
+// when negative) crossed terrain curving up (down), which goes on rising at least as
+// steeply as the chord (no more steeply). A steep next return, or none, does not.
+bool ColumnProfiles::bends_on(Index k, Index end, float step, float bend) const {
+  const ColumnPoint& q = points_[k];
+  for (Index j = k + 1; j < end; ++j) {
+    const ColumnPoint& next = points_[j];
+    if (next.r < q.r + p_.min_advance_m) continue;
+    const float gradient = (next.z - q.z) / (next.r - q.r);
+    if (next.steep != 0 || std::abs(gradient) > p_.max_gradient) return false;
+    return bend > 0.f ? gradient >= step : gradient <= step;
+  }
+  return false;
+}
+
 // One column outwards from the sensor. The profile is the last ground return (r, z) and
 // the gradient dz/dr along the column, starting at the ground under the sensor.
 void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
@@ -220,8 +239,9 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
   // (the vehicle frame's ground), else on the vehicle's surface. Starting with that
   // surface's gradient was worse on hills (a local tilt extrapolated 10 m).
   float last_r = 0.f;
-  float last_z = p_.sensor_z > 0.f ? 0.f : p_.vehicle.at(p_.sensor_x, p_.sensor_y);
+  float last_z = start_z_;
   float gradient = 0.f;
+  float gradient_r = 0.f;  // where the gradient holds (the start: level under the vehicle)
   bool blocked = false;  // an obstacle return since the last ground return
   int last_ring = -1;    // ring of the last ground return (-1: the start)
   // The farthest return of the rings below the current one, and of the current ring.
@@ -241,6 +261,14 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       if (ray_reaches(column, between, r)) return true;
     }
     return false;
+  };
+  // Resuming on a gradient that is only the start's guess, which terrain curvature may have
+  // bent over `drift` metres since the point where it holds (resume_curvature_per_m).
+  auto resumes_bent = [&](Index k, float step, float drift) {
+    const float bend = step - gradient;
+    return profile_size_ <= 2 && std::abs(points_[k].level2_h) <= p_.single_rise_m &&
+           std::abs(bend) <= p_.resume_gradient_change + p_.resume_curvature_per_m * std::max(0.f, drift) &&
+           bends_on(k, end, step, bend);
   };
   profile_size_ = 0;
   add_to_profile(last_r, last_z);
@@ -284,11 +312,16 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
     const float step = (z - last_z) / advance;  // gradient from the last ground return
     bool accept = false;
     float next_gradient = 0.f;
+    float next_gradient_r = 0.5f * (last_r + r);  // a chord's gradient holds at its middle
     if (over < -p_.drop_m) {  // a lower surface (fields below a levee): level from here
       accept = true;
       // ... unless it still rises from the last ground return, bending no more than at any
       // return: a hill's shoulder, rising on at the measured gradient.
-      if (step >= p_.shoulder_gradient && step >= gradient - p_.gradient_step) next_gradient = step;
+      if (step >= p_.shoulder_gradient && step >= gradient - p_.gradient_step) {
+        next_gradient = step;
+      } else {
+        next_gradient_r = r;
+      }
     } else {
       const float rise = blocked           ? p_.blocked_rise_m + p_.blocked_rise_per_m * advance
                          : profile_size_ == 1 ? p_.start_rise_m + p_.start_rise_per_m * advance
@@ -298,8 +331,9 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       // Before any ground return of the column the profile's gradient is only the start's
       // guess: resuming on it needs the level-2 surface not to disagree (a car roof seen
       // past a car side next to the sensor, in a jam).
-      const bool resumes = blocked && std::abs(step - gradient) <= p_.resume_gradient_change &&
-                           (profile_size_ > 1 || !(std::abs(q.level2_h) > p_.single_rise_m));
+      const bool resumes = blocked && (std::abs(step - gradient) <= p_.resume_gradient_change
+                                           ? profile_size_ > 1 || !(std::abs(q.level2_h) > p_.single_rise_m)
+                                           : resumes_bent(k, step, 0.5f * (last_r + r) - gradient_r));
       accept = std::abs(step) <= p_.max_gradient && (over <= rise || resumes);
       next_gradient = std::clamp(step, gradient - p_.gradient_step, gradient + p_.gradient_step);
     }
@@ -319,10 +353,15 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
     }
     q.ground = 1;
     q.bend = step - gradient;
+    // The column's first return, ground level with the ground under the vehicle: that ground
+    // going on (rule 4 keeps it, whatever the level-2 surface says).
+    q.vehicle_ground = profile_size_ == 1 && !blocked &&
+                       std::abs(z - start_z_) <= 0.5f * p_.single_rise_m;
     last_r = r;
     last_z = z;
     add_to_profile(r, z);
     gradient = next_gradient;
+    gradient_r = next_gradient_r;
     blocked = false;
     last_ring = q.ring;
   }
@@ -348,9 +387,12 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
       const bool before = previous < end && raised(previous, 0.5f * p_.single_rise_m);
       const bool after = next < end && raised(next, 0.5f * p_.single_rise_m);
       // Level with the ground return before it, or under it, the level-2 surface is what
-      // is off (a levee's shoulder over a cell fitted to the fields below).
-      const bool level = previous < end &&
-                         points_[k].z - points_[previous].z <= 0.5f * p_.single_rise_m;
+      // is off (a levee's shoulder over a cell fitted to the fields below). Before it the
+      // column has only the start: its first return must be level with the ground under the
+      // vehicle (not under it: a bush in the fields below a levee is).
+      const bool level = previous < end
+                             ? points_[k].z - points_[previous].z <= 0.5f * p_.single_rise_m
+                             : points_[k].vehicle_ground != 0;
       // On or under the chord joining the ground returns before and after it, it is no
       // bump in the column (a fence line stands over that chord by its height).
       const bool on_chord = previous < end && next < end && [&] {
@@ -358,7 +400,13 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
         const float t = b.r > a.r ? std::clamp((q.r - a.r) / (b.r - a.r), 0.f, 1.f) : 0.f;
         return q.z - (a.z + t * (b.z - a.z)) <= 0.5f * p_.single_rise_m;
       }();
-      if (!before && !after && !level && !on_chord) points_[k].ground = 0;
+      if (!before && !after && !level && !on_chord) {
+        points_[k].ground = 0;
+        // Under the ground the vehicle stands on, the ring may still take it (fill_shadows):
+        // terrain falling away (a levee's side grazed by a ring) runs on along the ring from
+        // ground to ground, where a fence or a bush stands out of it.
+        points_[k].shadowed = points_[k].z < start_z_ ? 1 : 0;
+      }
     }
     previous = k;
   }

@@ -30,6 +30,14 @@ struct ProfileParams {
   float rise_m = 0.25f, rise_per_m = 0.12f;
   float blocked_rise_m = 0.25f, blocked_rise_per_m = 0.03f;
   float resume_gradient_change = 0.06f;  // ... or a return this close to the profile's gradient
+  // While that gradient is only the start's guess (fewer than two ground returns of the
+  // column: a Puck Hi-Res's lowest ring meets level ground 11 m out, often behind the first
+  // obstacle), the terrain may have bent since the point where the gradient holds: by up to
+  // this curvature (1/m; a 1 m undulation over a 40 m wavelength) x the distance from that
+  // point to the middle of the chord from the last ground return. Taken only where the
+  // level-2 surface agrees (within single_rise_m) and the column's next return goes on
+  // bending (bends_on).
+  float resume_curvature_per_m = 0.025f;
   // ... and for the first return of a column, from the ground under the sensor.
   float start_rise_m = 0.25f, start_rise_per_m = 0.12f;
   float drop_m = 0.5f;         // a return this far under the profile starts a lower surface
@@ -79,6 +87,7 @@ struct ProfileParams {
   // sensor) are ground when they lie within shadow_band_m of the line joining the run's
   // ground on both sides of the shadow, and that ground is seen over at least
   // shadow_anchor_m on each side (a lone ground return on a fence line anchors nothing).
+  // So are single rises under the ground the vehicle stands on (a levee's side).
   float shadow_band_m = 0.2f, shadow_anchor_m = 0.7f;
 };
 
@@ -98,7 +107,10 @@ class ColumnProfiles {
     float r, z, level2_h, plane_h, over;
     std::uint32_t index;  // cloud point
     std::uint8_t ring, steep, ground;
-    std::uint8_t shadowed = 0;  // refused only for an obstacle in front (fill_shadows)
+    // Refused only for an obstacle in front, or as a single rise under the vehicle's ground:
+    // the ring may take it (fill_shadows).
+    std::uint8_t shadowed = 0;
+    std::uint8_t vehicle_ground = 0;  // the column's first return, level with the start
     float bend = 0.f;  // change of the profile's gradient when taken as ground
   };
   void gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
@@ -106,6 +118,7 @@ class ColumnProfiles {
                         const std::vector<float>& plane_height);
   void walk_column(std::size_t column, std::size_t begin, std::size_t end);
   [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
+  [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
   void check_single_rises(std::size_t begin, std::size_t end);
   void follow_rings(const Cloud& cloud, std::vector<std::uint8_t>& ground) const;
   void fill_shadows(const Cloud& cloud, std::size_t begin, std::size_t end,
@@ -121,6 +134,7 @@ class ColumnProfiles {
   [[nodiscard]] float profile_at(float r) const;
 
   ProfileParams p_;
+  float start_z_ = 0.f;  // the ground under the vehicle, where every column starts
   // The ground returns walked in the current column (the start under the sensor first).
   std::array<float, 2 * kLasers + 1> profile_r_{}, profile_z_{};
   std::size_t profile_size_ = 0;
