@@ -19,6 +19,7 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
                            const std::vector<float>& plane_height, const ProfileParams& params,
                            std::vector<std::uint8_t>& ground, std::vector<float>& height) {
   p_ = params;
+  start_z_ = p_.sensor_z > 0.f ? 0.f : p_.vehicle.at(p_.sensor_x, p_.sensor_y);
   gather_by_column(cloud, steep, height, plane_height);  // height: over level 2 until here
   for (Index c = 0; c + 1 < column_start_.size(); ++c) {
     walk_column(c, column_start_[c], column_start_[c + 1]);
@@ -64,7 +65,9 @@ void ColumnProfiles::follow_rings(const Cloud& cloud, std::vector<std::uint8_t>&
 // far side of a bowl, a hill behind a tree). The ring itself runs on across the shadow: a
 // stretch of such returns with ground on both sides is ground where it lies on the line
 // joining that ground. The ground on each side must be seen over shadow_anchor_m, so that
-// a lone ground return on a fence line anchors nothing.
+// a lone ground return on a fence line anchors nothing. Single rises (rule 4) under the
+// ground the vehicle stands on are taken the same way: a ring grazing a levee's side where
+// the level-2 surface was fitted to the fields below.
 void ColumnProfiles::fill_shadows(const Cloud& cloud, Index begin, Index end,
                                   std::vector<std::uint8_t>& ground) const {
   Index anchor = end;  // last return of a long enough ground stretch before a shadow
@@ -236,7 +239,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
   // (the vehicle frame's ground), else on the vehicle's surface. Starting with that
   // surface's gradient was worse on hills (a local tilt extrapolated 10 m).
   float last_r = 0.f;
-  float last_z = p_.sensor_z > 0.f ? 0.f : p_.vehicle.at(p_.sensor_x, p_.sensor_y);
+  float last_z = start_z_;
   float gradient = 0.f;
   float gradient_r = 0.f;  // where the gradient holds (the start: level under the vehicle)
   bool blocked = false;  // an obstacle return since the last ground return
@@ -354,6 +357,10 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       continue;
     }
     q.ground = 1;
+    // The column's first return, ground level with the ground under the vehicle: that ground
+    // going on (rule 4 keeps it, whatever the level-2 surface says).
+    q.vehicle_ground = profile_size_ == 1 && !blocked &&
+                       std::abs(z - start_z_) <= 0.5f * p_.single_rise_m;
     last_r = r;
     last_z = z;
     add_to_profile(r, z);
@@ -382,9 +389,12 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
       const bool before = previous < end && raised(previous, 0.5f * p_.single_rise_m);
       const bool after = next < end && raised(next, 0.5f * p_.single_rise_m);
       // Level with the ground return before it, or under it, the level-2 surface is what
-      // is off (a levee's shoulder over a cell fitted to the fields below).
-      const bool level = previous < end &&
-                         points_[k].z - points_[previous].z <= 0.5f * p_.single_rise_m;
+      // is off (a levee's shoulder over a cell fitted to the fields below). Before it the
+      // column has only the start: its first return must be level with the ground under the
+      // vehicle (not under it: a bush in the fields below a levee is).
+      const bool level = previous < end
+                             ? points_[k].z - points_[previous].z <= 0.5f * p_.single_rise_m
+                             : points_[k].vehicle_ground != 0;
       // On or under the chord joining the ground returns before and after it, it is no
       // bump in the column (a fence line stands over that chord by its height).
       const bool on_chord = previous < end && next < end && [&] {
@@ -392,7 +402,13 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
         const float t = b.r > a.r ? std::clamp((q.r - a.r) / (b.r - a.r), 0.f, 1.f) : 0.f;
         return q.z - (a.z + t * (b.z - a.z)) <= 0.5f * p_.single_rise_m;
       }();
-      if (!before && !after && !level && !on_chord) points_[k].ground = 0;
+      if (!before && !after && !level && !on_chord) {
+        points_[k].ground = 0;
+        // Under the ground the vehicle stands on, the ring may still take it (fill_shadows):
+        // terrain falling away (a levee's side grazed by a ring) runs on along the ring from
+        // ground to ground, where a fence or a bush stands out of it.
+        points_[k].shadowed = points_[k].z < start_z_ ? 1 : 0;
+      }
     }
     previous = k;
   }

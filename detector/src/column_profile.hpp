@@ -82,6 +82,7 @@ struct ProfileParams {
   // sensor) are ground when they lie within shadow_band_m of the line joining the run's
   // ground on both sides of the shadow, and that ground is seen over at least
   // shadow_anchor_m on each side (a lone ground return on a fence line anchors nothing).
+  // So are single rises under the ground the vehicle stands on (a levee's side).
   float shadow_band_m = 0.2f, shadow_anchor_m = 0.7f;
 };
 
@@ -101,7 +102,10 @@ class ColumnProfiles {
     float r, z, level2_h, plane_h, over;
     std::uint32_t index;  // cloud point
     std::uint8_t ring, steep, ground;
-    std::uint8_t shadowed = 0;  // refused only for an obstacle in front (fill_shadows)
+    // Refused only for an obstacle in front, or as a single rise under the vehicle's ground:
+    // the ring may take it (fill_shadows).
+    std::uint8_t shadowed = 0;
+    std::uint8_t vehicle_ground = 0;  // the column's first return, level with the start
   };
   void gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
                         const std::vector<float>& level2_height,
@@ -124,6 +128,7 @@ class ColumnProfiles {
   [[nodiscard]] float profile_at(float r) const;
 
   ProfileParams p_;
+  float start_z_ = 0.f;  // the ground under the vehicle, where every column starts
   // The ground returns walked in the current column (the start under the sensor first).
   std::array<float, 2 * kLasers + 1> profile_r_{}, profile_z_{};
   std::size_t profile_size_ = 0;

@@ -351,6 +351,55 @@ TEST_CASE("column profiles: a return on the chord of its column's ground is no s
   CHECK(label(s, level2).ground == std::vector<std::uint8_t>(9, 1));
 }
 
+TEST_CASE("column profiles: a column's first return level with the vehicle's ground stays ground",
+          "[detector][profiles]") {
+  // A levee whose road ring 0 meets at 7.3 m; ring 1 passes over the levee's side to the
+  // fields 1.9 m lower. The level-2 cell was fitted to the fields: ring 0 is 1.87 m over
+  // it with no raised column neighbour and no ground return before it but the start.
+  const auto first = [](bool car_in_front, float z0) {
+    Scan s;
+    if (car_in_front) {  // a car side next to the sensor (steep), its lowest ring 0
+      for (int ring = 0; ring <= 2; ++ring) add(s, ring, 0, 4.5f, 0.4f + 0.3f * static_cast<float>(ring), 2);
+    }
+    const int r0 = car_in_front ? 3 : 0;
+    add(s, r0, 0, 7.3f, z0, 1);
+    add(s, r0 + 1, 0, 16.5f, -1.9f, 1);
+    std::vector<float> level2(s.cloud.size(), 0.f);
+    level2[static_cast<std::size_t>(r0)] = z0 + 1.9f;
+    return label(s, level2).ground[static_cast<std::size_t>(r0)];
+  };
+  CHECK(first(false, -0.03f) == 1);  // the road beside the vehicle
+  CHECK(first(false, -0.9f) == 0);   // under it: a bush in the fields, as far as rule 4 knows
+  CHECK(first(true, 0.1f) == 0);     // past a car: something else at that height (a roof)
+}
+
+TEST_CASE("column profiles: a ring grazing a levee's side under the vehicle's ground is ground",
+          "[detector][profiles]") {
+  // Ring 0 over 41 columns 1 degree apart runs down a levee's side from 0.2 m to 1.0 m
+  // under the road (continuous along the ring), ring 1 beyond on the fields 2 m down. The
+  // level-2 surface follows the side in columns 0-9 and 31-40 and is fitted to the fields
+  // in between: there ring 0 is a single rise in its column (no raised neighbour, no ground
+  // before it), but its ring runs on from ground to ground, on the line joining them.
+  const auto grazing = [](float dz) {
+    Scan s;
+    for (int col = 0; col <= 40; ++col) {
+      const float z = dz - 0.2f - 0.02f * static_cast<float>(col);
+      add(s, 0, col, 8.f + 0.05f * static_cast<float>(col), z, 1);
+    }
+    for (int col = 0; col <= 40; ++col) add(s, 1, col, 17.f, -2.f, 1);
+    std::vector<float> level2(s.cloud.size(), 0.f);
+    for (std::size_t col = 10; col <= 30; ++col) level2[col] = s.cloud.z[col] + 2.f;
+    const auto ground = label(s, level2).ground;
+    int side = 0;
+    for (std::size_t col = 10; col <= 30; ++col) side += ground[col];
+    return side;
+  };
+  CHECK(grazing(0.f) == 21);
+  // The same ring line 1.3 m higher, over the vehicle's ground: a ring line over a fence or a
+  // box stays a single rise.
+  CHECK(grazing(1.3f) == 0);
+}
+
 TEST_CASE("column profiles: past an obstacle on the start's guess, the ground may have bent",
           "[detector][profiles]") {
   // A hill behind a bush (sim hills, seed 4, Puck Hi-Res): the lowest ring meets the ground
