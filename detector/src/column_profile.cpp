@@ -287,9 +287,14 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
     const float over = advance >= 0.f ? z - (last_z + gradient * advance) : z - profile_at(r);
     q.over = over;
     if (q.steep != 0) {  // a wall, a car side, a pole
+      // Past an obstacle before the column's first ground return the profile is only the
+      // start's guess: its band needs the level-2 surface not to disagree (the foot of a far
+      // wall seen past a near one, level with the start by chance).
+      const bool guess_off =
+          blocked && profile_size_ == 1 && std::abs(q.level2_h) > p_.single_rise_m;
       // (or of a level-1 plane that explains its cell: the foot of a wall on a slope)
       // (before the column's first ground return the profile is only the start's guess)
-      q.ground = std::abs(over) < p_.steep_band_m ||
+      q.ground = (std::abs(over) < p_.steep_band_m && !guess_off) ||
                  (std::abs(q.plane_h) < p_.steep_band_m &&
                   (std::abs(over) < p_.plane_foot_m || profile_size_ == 1));
       if (q.ground != 0 && under_a_ray(r, z, q.ring)) q.ground = 0;

@@ -448,3 +448,24 @@ TEST_CASE("column profiles: past an obstacle on the start's guess, the ground ma
   CHECK(hill_behind_bush(0.5f, false)[7] == 0);
   CHECK(hill_behind_bush(0.f, true)[7] == 0);
 }
+
+TEST_CASE("column profiles: a far wall's foot past a near wall needs level 2 on the start's guess",
+          "[detector][profiles]") {
+  // A ramp's parapet 4.3 m out hides rings 0-1 (sim garage, seed 2); rings 2-4 meet a wall
+  // 15.3 m out, ring 2 by chance level with the start under the sensor (z 0.02, within the
+  // steep band of a profile that has not met the ground yet). The level-2 surface lies
+  // 0.7 m under it there: the start's level says nothing 15 m past a wall.
+  const auto far_foot = [](float level2_h) {
+    Scan s;
+    add(s, 0, 0, 4.3f, 1.24f, 2);
+    add(s, 1, 0, 4.3f, 1.34f, 2);
+    for (int ring = 2; ring <= 4; ++ring) {
+      add(s, ring, 0, 15.3f, 0.02f + 0.36f * static_cast<float>(ring - 2), 2);
+    }
+    std::vector<float> level2(s.cloud.size(), 0.f);
+    level2[2] = level2_h;
+    return label(s, level2).ground[2];
+  };
+  CHECK(far_foot(0.7f) == 0);
+  CHECK(far_foot(0.f) == 1);  // where level 2 agrees, the band stands
+}
