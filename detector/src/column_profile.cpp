@@ -287,9 +287,14 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
     const float over = advance >= 0.f ? z - (last_z + gradient * advance) : z - profile_at(r);
     q.over = over;
     if (q.steep != 0) {  // a wall, a car side, a pole
+      // Past an obstacle before the column's first ground return the profile is only the
+      // start's guess: its band needs the level-2 surface not to disagree (the foot of a far
+      // wall seen past a near one, level with the start by chance).
+      const bool guess_off =
+          blocked && profile_size_ == 1 && std::abs(q.level2_h) > p_.single_rise_m;
       // (or of a level-1 plane that explains its cell: the foot of a wall on a slope)
       // (before the column's first ground return the profile is only the start's guess)
-      q.ground = std::abs(over) < p_.steep_band_m ||
+      q.ground = (std::abs(over) < p_.steep_band_m && !guess_off) ||
                  (std::abs(q.plane_h) < p_.steep_band_m &&
                   (std::abs(over) < p_.plane_foot_m || profile_size_ == 1));
       if (q.ground != 0 && under_a_ray(r, z, q.ring)) q.ground = 0;
@@ -352,6 +357,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       continue;
     }
     q.ground = 1;
+    q.bend = step - gradient;
     // The column's first return, ground level with the ground under the vehicle: that ground
     // going on (rule 4 keeps it, whatever the level-2 surface says).
     q.vehicle_ground = profile_size_ == 1 && !blocked &&
@@ -366,7 +372,8 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
   }
 }
 
-// A ground return raised over the level-2 surface needs a raised ground neighbour in its
+// A ground return raised over the level-2 surface (by single_rise_m, or by kink_rise_m when
+// it bent the profile up by more than kink_gradient) needs a raised ground neighbour in its
 // column (the ground return before or after it along the profile; a return on a steep
 // surface taken for the foot of a wall does not count).
 void ColumnProfiles::check_single_rises(Index begin, Index end) {
@@ -378,7 +385,8 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
   Index previous = end;  // previous ground return of the column
   for (Index k = begin; k < end; ++k) {
     if (!neighbour(k)) continue;
-    if (raised(k, p_.single_rise_m)) {
+    const float rise = points_[k].bend > p_.kink_gradient ? p_.kink_rise_m : p_.single_rise_m;
+    if (raised(k, rise)) {
       Index next = k + 1;
       while (next < end && !neighbour(next)) ++next;
       const bool both = previous < end && next < end;

@@ -55,6 +55,11 @@ struct ProfileParams {
   // this over the ground return before it or over the chord joining the ground returns
   // before and after it (then the level-2 surface is what is off).
   float single_rise_m = 0.3f;
+  // A return that bent the profile's gradient up by more than kink_gradient (a kink: hills
+  // bend the profile by a few hundredths per metre) needs only to stand kink_rise_m (the
+  // cells' label band) over the level-2 surface to count as a single rise (a low fence line
+  // just past ground, 0.2-0.3 m up, would otherwise start a chain of fence lines).
+  float kink_gradient = 0.1f, kink_rise_m = 0.18f;
   // Past an obstacle a return this close to a level-1 plane that explains its cell is ground
   // (the plane is trusted where it explains the ground; the cells' own fits are not).
   float plane_band_m = 0.1f;
@@ -106,6 +111,7 @@ class ColumnProfiles {
     // the ring may take it (fill_shadows).
     std::uint8_t shadowed = 0;
     std::uint8_t vehicle_ground = 0;  // the column's first return, level with the start
+    float bend = 0.f;  // change of the profile's gradient when taken as ground
   };
   void gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
                         const std::vector<float>& level2_height,

@@ -135,6 +135,23 @@ TEST_CASE("column profiles: a single ring raised over the level-2 surface is dro
   CHECK(label(s, s.cloud.z).ground == std::vector<std::uint8_t>{1, 1, 1, 0, 1});
 }
 
+TEST_CASE("column profiles: a low line that kinks the profile up is a single rise",
+          "[detector][profiles]") {
+  // Sim fences (seed 103, where rings 4-6 each meet a low fence): ground to 12 m, then a
+  // fence line 1.1 m farther and 0.26 m up, under single_rise_m over the level-2 surface;
+  // ground again at 20 m. Reached by a kink (the gradient bends up by 0.24), it is dropped.
+  Scan fence;
+  const float fr[] = {6.f, 8.f, 10.f, 12.f, 13.1f, 20.f}, fz[] = {0, 0, 0, 0, 0.26f, 0};
+  for (int ring = 0; ring < 6; ++ring) add(fence, ring, 0, fr[ring], fz[ring], ring == 4 ? 2 : 1);
+  CHECK(label(fence, fence.cloud.z).ground == std::vector<std::uint8_t>{1, 1, 1, 1, 0, 1});
+  // The same height over a level-2 surface that misses a gentle rise (bending a few
+  // hundredths at each ring) stays ground.
+  Scan hill;
+  const float hr[] = {6.f, 8.f, 10.f, 12.f}, hz[] = {0, 0.06f, 0.2f, 0.4f};
+  for (int ring = 0; ring < 4; ++ring) add(hill, ring, 0, hr[ring], hz[ring], 1);
+  CHECK(label(hill, {0, 0, 0, 0.26f}).ground == std::vector<std::uint8_t>(4, 1));
+}
+
 TEST_CASE("column profiles: a return level with the ground before it is not a single rise",
           "[detector][profiles]") {
   // A levee: the road at 7 m, its shoulder at 8.4 m, the fields 1.9 m lower at 19.6 m. The
@@ -430,6 +447,27 @@ TEST_CASE("column profiles: past an obstacle on the start's guess, the ground ma
   // up, ring 7 is something standing there, as before.
   CHECK(hill_behind_bush(0.5f, false)[7] == 0);
   CHECK(hill_behind_bush(0.f, true)[7] == 0);
+}
+
+TEST_CASE("column profiles: a far wall's foot past a near wall needs level 2 on the start's guess",
+          "[detector][profiles]") {
+  // A ramp's parapet 4.3 m out hides rings 0-1 (sim garage, seed 2); rings 2-4 meet a wall
+  // 15.3 m out, ring 2 by chance level with the start under the sensor (z 0.02, within the
+  // steep band of a profile that has not met the ground yet). The level-2 surface lies
+  // 0.7 m under it there: the start's level says nothing 15 m past a wall.
+  const auto far_foot = [](float level2_h) {
+    Scan s;
+    add(s, 0, 0, 4.3f, 1.24f, 2);
+    add(s, 1, 0, 4.3f, 1.34f, 2);
+    for (int ring = 2; ring <= 4; ++ring) {
+      add(s, ring, 0, 15.3f, 0.02f + 0.36f * static_cast<float>(ring - 2), 2);
+    }
+    std::vector<float> level2(s.cloud.size(), 0.f);
+    level2[2] = level2_h;
+    return label(s, level2).ground[2];
+  };
+  CHECK(far_foot(0.7f) == 0);
+  CHECK(far_foot(0.f) == 1);  // where level 2 agrees, the band stands
 }
 
 TEST_CASE("column profiles: raised neighbours do not vouch for a bump standing out of both",
