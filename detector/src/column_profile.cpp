@@ -307,7 +307,11 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
           blocked && profile_size_ == 1 && std::abs(q.level2_h) > p_.single_rise_m;
       // (or of a level-1 plane that explains its cell: the foot of a wall on a slope)
       // (before the column's first ground return the profile is only the start's guess)
-      q.ground = (std::abs(over) < p_.steep_band_m && !guess_off) ||
+      // Far past the last ground return on a climbing profile, the extrapolation is only a
+      // guess too (a shed's wall on a bank top the rings never see, where the bank's slope
+      // extrapolated runs into it).
+      const bool climb_guessed = gradient * advance > p_.steep_climb_m;
+      q.ground = (std::abs(over) < p_.steep_band_m && !guess_off && !climb_guessed) ||
                  (std::abs(q.plane_h) < p_.steep_band_m &&
                   (std::abs(over) < p_.plane_foot_m || profile_size_ == 1));
       if (q.ground != 0 && under_a_ray(r, z, q.ring)) q.ground = 0;

@@ -48,6 +48,7 @@ struct ProfileParams {
   float anchor_slack_m = 0.05f;  // ... a ground return moves the profile's end at most
                                  // max_gradient x advance + this up or down
   float steep_band_m = 0.06f;  // a steep return is ground only this close to the profile
+  float steep_climb_m = 0.7f;  // ... where it climbs at most this past its last ground return
   float label_up_m = 0.18f, label_down_m = 0.5f;  // band for returns that do not advance
   // A ground return more than this over the level-2 surface stays ground only when the
   // ground return before or after it in its column is raised too (a bank rises over

@@ -196,6 +196,27 @@ TEST_CASE("column profiles: an object standing out does not vouch for a single r
   }
 }
 
+TEST_CASE("column profiles: the steep band trusts only a short climb past the last ground",
+          "[detector][profiles]") {
+  // Sim bank (seed 5): a bank climbing at 0.21 seen to 18 m; 9 m farther a shed's wall on
+  // the bank top (two rings at one distance, a steep pair), its lower return on the bank's
+  // slope extrapolated by chance. The extrapolated climb (1.9 m) is only a guess there.
+  auto bank_then_wall = [](float wall_r) {
+    Scan s;
+    const float r[] = {6.f, 8.f, 10.f, 12.5f, 15.f, 18.f};
+    for (int ring = 0; ring < 6; ++ring) add(s, ring, 0, r[ring], 0.21f * (r[ring] - 6.f), 1);
+    const float foot = 0.21f * (wall_r - 6.f);
+    add(s, 6, 0, wall_r, foot, 2);
+    add(s, 7, 0, wall_r, foot + 1.2f, 2);
+    return s;
+  };
+  const Scan far = bank_then_wall(27.f);
+  CHECK(label(far).ground == std::vector<std::uint8_t>{1, 1, 1, 1, 1, 1, 0, 0});
+  // The foot of a wall 2 m past the last ground return (a 0.4 m climb) is still ground.
+  const Scan near = bank_then_wall(20.f);
+  CHECK(label(near).ground == std::vector<std::uint8_t>{1, 1, 1, 1, 1, 1, 1, 0});
+}
+
 TEST_CASE("column profiles: a return level with the ground before it is not a single rise",
           "[detector][profiles]") {
   // A levee: the road at 7 m, its shoulder at 8.4 m, the fields 1.9 m lower at 19.6 m. The
