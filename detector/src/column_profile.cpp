@@ -414,8 +414,23 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
     if (raised(k, rise)) {
       Index next = k + 1;
       while (next < end && !neighbour(next)) ++next;
-      const bool before = previous < end && raised(previous, 0.5f * p_.single_rise_m);
-      const bool after = next < end && raised(next, 0.5f * p_.single_rise_m);
+      const bool both = previous < end && next < end;
+      // Height over the chord joining the ground returns before and after it.
+      const float over_chord = both ? [&] {
+        const ColumnPoint &a = points_[previous], &b = points_[next], &q = points_[k];
+        const float t = b.r > a.r ? std::clamp((q.r - a.r) / (b.r - a.r), 0.f, 1.f) : 0.f;
+        return q.z - (a.z + t * (b.z - a.z));
+      }() : 0.f;
+      // A bump standing out of both: more than single_rise_m higher over the level-2
+      // surface than each of them, and more than drop_m over their chord (a bush on fields
+      // that the level-2 cells lie under by an offset: its neighbours are raised by that
+      // offset, the bush by its height more). Raised neighbours then do not vouch for it.
+      const float h = points_[k].level2_h;
+      const bool bump = both && over_chord > p_.drop_m &&
+                        h - points_[previous].level2_h > p_.single_rise_m &&
+                        h - points_[next].level2_h > p_.single_rise_m;
+      const bool before = !bump && previous < end && raised(previous, 0.5f * p_.single_rise_m);
+      const bool after = !bump && next < end && raised(next, 0.5f * p_.single_rise_m);
       // Level with the ground return before it, or under it, the level-2 surface is what
       // is off (a levee's shoulder over a cell fitted to the fields below). Before it the
       // column has only the start: its first return must be level with the ground under the
@@ -425,11 +440,7 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
                              : points_[k].vehicle_ground != 0;
       // On or under the chord joining the ground returns before and after it, it is no
       // bump in the column (a fence line stands over that chord by its height).
-      const bool on_chord = previous < end && next < end && [&] {
-        const ColumnPoint &a = points_[previous], &b = points_[next], &q = points_[k];
-        const float t = b.r > a.r ? std::clamp((q.r - a.r) / (b.r - a.r), 0.f, 1.f) : 0.f;
-        return q.z - (a.z + t * (b.z - a.z)) <= 0.5f * p_.single_rise_m;
-      }();
+      const bool on_chord = both && over_chord <= 0.5f * p_.single_rise_m;
       if (!before && !after && !level && !on_chord) {
         points_[k].ground = 0;
         // Under the ground the vehicle stands on, the ring may still take it (fill_shadows):

@@ -492,3 +492,24 @@ TEST_CASE("column profiles: ground met by a rising ray rises more steeply than t
   CHECK(street_over_parapet(2.9f, true) == 0);    // levels off: met from below
   CHECK(street_over_parapet(3.87f, false) == 0);  // one rising return
 }
+
+TEST_CASE("column profiles: raised neighbours do not vouch for a bump standing out of both",
+          "[detector][profiles]") {
+  // Fields 2 m under the road, seen at 10, 20 and 40 m; ring 2 at 25 m meets a bush
+  // `bush_m` over them (a gentle rise from ring 1, within the allowance). The level-2 cells
+  // lie 0.62 m under the fields: every return is raised, the bush by its height more.
+  const auto bush = [](float bush_m, float level2_rise = 0.f) {
+    Scan s;
+    const float r[] = {10.f, 20.f, 25.f, 40.f};
+    for (int ring = 0; ring < 4; ++ring) {
+      add(s, ring, 0, r[ring], ring == 2 ? -2.f + bush_m : -2.f, ring == 2 ? 2 : 1);
+    }
+    std::vector<float> level2 = {0.62f, 0.62f, 0.62f + bush_m - level2_rise, 0.62f};
+    return label(s, level2).ground;
+  };
+  CHECK(bush(0.65f) == std::vector<std::uint8_t>{1, 1, 0, 1});
+  // 0.4 m over the chord: a hump the fields may have, raised with its neighbours.
+  CHECK(bush(0.4f) == std::vector<std::uint8_t>{1, 1, 1, 1});
+  // Where the level-2 surface rises 0.4 m there too, it is no bump over that surface.
+  CHECK(bush(0.65f, 0.4f) == std::vector<std::uint8_t>{1, 1, 1, 1});
+}
