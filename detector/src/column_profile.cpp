@@ -430,7 +430,14 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
                         h - points_[previous].level2_h > p_.single_rise_m &&
                         h - points_[next].level2_h > p_.single_rise_m;
       const bool before = !bump && previous < end && raised(previous, 0.5f * p_.single_rise_m);
-      const bool after = !bump && next < end && raised(next, 0.5f * p_.single_rise_m);
+      // A return that kinked the profile up is vouched for only by a raised return close
+      // beyond it (the same rise going on), not by one far beyond (a ring-7 return 40 m past
+      // a fence line, where the level-2 surface is extrapolated).
+      const bool vouches_after = points_[k].bend <= p_.kink_gradient ||
+                                 (next < end && points_[next].r - points_[k].r <=
+                                                    p_.kink_vouch_span * points_[k].r);
+      const bool after = !bump && next < end && vouches_after &&
+                         raised(next, 0.5f * p_.single_rise_m);
       // Level with the ground return before it, or under it, the level-2 surface is what
       // is off (a levee's shoulder over a cell fitted to the fields below). Before it the
       // column has only the start: its first return must be level with the ground under the

@@ -67,6 +67,9 @@ struct ProfileParams {
   // cells' label band) over the level-2 surface to count as a single rise (a low fence line
   // just past ground, 0.2-0.3 m up, would otherwise start a chain of fence lines).
   float kink_gradient = 0.1f, kink_rise_m = 0.18f;
+  // ... and a raised ground return after it vouches for it only within kink_vouch_span x
+  // its distance (the rise going on), not far beyond.
+  float kink_vouch_span = 0.25f;
   // Past an obstacle a return this close to a level-1 plane that explains its cell is ground
   // (the plane is trusted where it explains the ground; the cells' own fits are not).
   float plane_band_m = 0.1f;

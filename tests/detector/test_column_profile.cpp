@@ -152,6 +152,25 @@ TEST_CASE("column profiles: a low line that kinks the profile up is a single ris
   CHECK(label(hill, {0, 0, 0, 0.26f}).ground == std::vector<std::uint8_t>(4, 1));
 }
 
+TEST_CASE("column profiles: a kinked rise is vouched for only by a raised return close beyond",
+          "[detector][profiles]") {
+  // Sim fences (seed 3): ring 4 meets a fence 3.1 m past ground, 0.55 m up (the walk takes
+  // it, kinking the profile up); the next ground return is 38 m farther, over a level-2
+  // surface extrapolated beyond the grid that lies 0.5 m under it. That far return does not
+  // vouch for the fence line.
+  Scan fence;
+  const float fr[] = {6.f, 10.f, 15.f, 20.5f, 23.6f, 62.f};
+  const float fz[] = {0, 0.03f, 0.07f, 0.12f, 0.67f, 0.82f};
+  for (int ring = 0; ring < 6; ++ring) add(fence, ring, 0, fr[ring], fz[ring], ring == 4 ? 2 : 1);
+  CHECK(label(fence, {0, 0, 0, 0, 0.55f, 0.5f}).ground ==
+        std::vector<std::uint8_t>{1, 1, 1, 1, 0, 1});
+  // A bank's top edge reached by a kink: the top 1 m beyond, raised too, vouches for it.
+  Scan bank;
+  const float br[] = {6.f, 8.f, 10.f, 11.f, 12.f}, bz[] = {0, 0, 0, 0.35f, 0.37f};
+  for (int ring = 0; ring < 5; ++ring) add(bank, ring, 0, br[ring], bz[ring], 1);
+  CHECK(label(bank, {0, 0, 0, 0.35f, 0.37f}).ground == std::vector<std::uint8_t>(5, 1));
+}
+
 TEST_CASE("column profiles: a return level with the ground before it is not a single rise",
           "[detector][profiles]") {
   // A levee: the road at 7 m, its shoulder at 8.4 m, the fields 1.9 m lower at 19.6 m. The
