@@ -382,6 +382,9 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       continue;
     }
     q.ground = 1;
+    // Resumed past an obstacle as ground over the sensor where level 2 disagrees.
+    q.rises_on = blocked && profile_size_ <= 2 && !(std::abs(q.level2_h) <= p_.single_rise_m) &&
+                 rises_over_its_ray(k, end);
     q.bend = step - gradient;
     // The column's first return, ground level with the ground under the vehicle: that ground
     // going on (rule 4 keeps it, whatever the level-2 surface says).
@@ -432,8 +435,10 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
       const bool before = !bump && previous < end && raised(previous, 0.5f * p_.single_rise_m);
       // A return that kinked the profile up is vouched for only by a raised return close
       // beyond it (the same rise going on), not by one far beyond (a ring-7 return 40 m past
-      // a fence line, where the level-2 surface is extrapolated).
-      const bool vouches_after = points_[k].bend <= p_.kink_gradient ||
+      // a fence line, where the level-2 surface is extrapolated), unless it resumed as ground
+      // over the sensor that the next returns rise on from (rises_over_its_ray: rings near
+      // the horizon land far apart).
+      const bool vouches_after = points_[k].bend <= p_.kink_gradient || points_[k].rises_on != 0 ||
                                  (next < end && points_[next].r - points_[k].r <=
                                                     p_.kink_vouch_span * points_[k].r);
       const bool after = !bump && next < end && vouches_after &&

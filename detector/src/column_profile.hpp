@@ -120,6 +120,7 @@ class ColumnProfiles {
     // Refused only for an obstacle in front, or as a single rise under the vehicle's ground:
     // the ring may take it (fill_shadows).
     std::uint8_t shadowed = 0;
+    std::uint8_t rises_on = 0;  // resumed as ground over the sensor (rises_over_its_ray)
     std::uint8_t vehicle_ground = 0;  // the column's first return, level with the start
     float bend = 0.f;  // change of the profile's gradient when taken as ground
   };
