@@ -21,11 +21,15 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   p_ = params;
   start_z_ = p_.sensor_z > 0.f ? 0.f : p_.vehicle.at(p_.sensor_x, p_.sensor_y);
   gather_by_column(cloud, steep, height, plane_height);  // height: over level 2 until here
-  for (Index c = 0; c + 1 < column_start_.size(); ++c) {
-    walk_column(c, column_start_[c], column_start_[c + 1]);
-    check_single_rises(column_start_[c], column_start_[c + 1]);
-  }
+  const Index columns = column_start_.size() - 1;
+  for (Index c = 0; c < columns; ++c) walk_column(c, column_start_[c], column_start_[c + 1]);
   ground.resize(cloud.size());
+  for (const ColumnPoint& q : points_) ground[q.index] = q.ground;
+  // Silhouettes first: an object standing out (a facade's ring line that the walk took past
+  // a fence line) must not vouch for a single rise below it.
+  remove_silhouettes(cloud, ground);
+  for (ColumnPoint& q : points_) q.ground = ground[q.index];
+  for (Index c = 0; c < columns; ++c) check_single_rises(column_start_[c], column_start_[c + 1]);
   height.resize(cloud.size());
   shadowed_.resize(cloud.size());
   for (const ColumnPoint& q : points_) {
@@ -33,15 +37,15 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
     height[q.index] = q.over;
     shadowed_[q.index] = q.shadowed;
   }
-  follow_rings(cloud, ground);
+  for_each_ring_run(cloud, [&](Index, Index, Index a, Index b) {
+    fill_shadows(cloud, a, b + 1, ground);
+  });
 }
 
-// Along each ring (strongest layer), runs of returns continuous in space. Terrain seen by a
-// ring is a long continuous curve: ground refused in the shadow of an obstacle within a
-// run is filled in (fill_shadows); a short run whose both ends border the sky (no return)
-// or returns behind it (farther away) is an object standing out: a tree crown, a shed or
-// a fence over ground the rings do not see, or in front of ground seen farther on.
-void ColumnProfiles::follow_rings(const Cloud& cloud, std::vector<std::uint8_t>& ground) const {
+// Along each ring (strongest layer), runs of returns continuous in space: fn(first, last,
+// a, b) for the run [a, b] of the ring's returns [first, last).
+template <typename RunFn>
+void ColumnProfiles::for_each_ring_run(const Cloud& cloud, RunFn&& fn) const {
   const RingRuns rows = point_ring_runs(cloud, 0, strongest_end(cloud));
   for (int ring = 0; ring < kLasers; ++ring) {
     const Index first = rows[static_cast<Index>(ring)], last = rows[static_cast<Index>(ring) + 1];
@@ -49,14 +53,23 @@ void ColumnProfiles::follow_rings(const Cloud& cloud, std::vector<std::uint8_t>&
     while (a < last) {
       Index b = a;
       while (b + 1 < last && continuous(cloud, b, b + 1)) ++b;
-      if (stands_out(cloud, first, last, a, b)) {
-        for (Index i = a; i <= b; ++i) ground[i] = 0;
-      } else {
-        fill_shadows(cloud, a, b + 1, ground);
-      }
+      fn(first, last, a, b);
       a = b + 1;
     }
   }
+}
+
+// Terrain seen by a ring is a long continuous curve: a short run whose both ends border the
+// sky (no return) or returns behind it (farther away) is an object standing out: a tree
+// crown, a shed or a fence over ground the rings do not see, or in front of ground seen
+// farther on. (Ground refused in the shadow of an obstacle within a run is filled in
+// afterwards: fill_shadows.)
+void ColumnProfiles::remove_silhouettes(const Cloud& cloud,
+                                        std::vector<std::uint8_t>& ground) const {
+  for_each_ring_run(cloud, [&](Index first, Index last, Index a, Index b) {
+    if (!stands_out(cloud, first, last, a, b)) return;
+    for (Index i = a; i <= b; ++i) ground[i] = 0;
+  });
 }
 
 // Run [begin, end) of one ring: an obstacle near the sensor (a trunk, a box, a car) hides

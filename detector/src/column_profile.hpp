@@ -132,7 +132,9 @@ class ColumnProfiles {
   [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
   [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end) const;
   void check_single_rises(std::size_t begin, std::size_t end);
-  void follow_rings(const Cloud& cloud, std::vector<std::uint8_t>& ground) const;
+  template <typename RunFn>
+  void for_each_ring_run(const Cloud& cloud, RunFn&& fn) const;
+  void remove_silhouettes(const Cloud& cloud, std::vector<std::uint8_t>& ground) const;
   void fill_shadows(const Cloud& cloud, std::size_t begin, std::size_t end,
                     std::vector<std::uint8_t>& ground) const;
   void fill_between(const Cloud& cloud, std::size_t a, std::size_t b,

@@ -171,6 +171,31 @@ TEST_CASE("column profiles: a kinked rise is vouched for only by a raised return
   CHECK(label(bank, {0, 0, 0, 0.35f, 0.37f}).ground == std::vector<std::uint8_t>(5, 1));
 }
 
+TEST_CASE("column profiles: an object standing out does not vouch for a single rise",
+          "[detector][profiles]") {
+  // Sim fences (seed 3): a long low fence line 24.6 m out (ring 4 over 41 columns, 0.56 m
+  // over level 2) and, in five of its columns, a facade's ring line standing out against the
+  // sky (ring 5). The walk takes the facade line as ground rising on from the fence; it is
+  // a silhouette (rule 5), so it does not vouch for the fence line under it (rule 4).
+  Scan s;
+  const float gr[] = {6.f, 10.f, 15.f, 20.5f}, gz[] = {0, 0.03f, 0.07f, 0.12f};
+  std::vector<float> level2;
+  auto put = [&](int ring, int col, float r, float z, int truth, float h) {
+    add(s, ring, col, r, z, truth);
+    level2.push_back(h);
+  };
+  for (int ring = 0; ring < 4; ++ring) {
+    for (int col = 0; col <= 40; ++col) put(ring, col, gr[ring], gz[ring], 1, 0.f);
+  }
+  for (int col = 0; col <= 40; ++col) put(4, col, 24.6f, 0.62f, 2, 0.56f);
+  for (int col = 18; col <= 22; ++col) put(5, col, 29.5f, 1.39f, 2, 1.3f);
+  const auto ground = label(s, level2).ground;
+  for (std::size_t i = 0; i < ground.size(); ++i) {
+    INFO("ring " << s.cloud.ring[i] << " column " << s.cloud.column[i]);
+    CHECK(ground[i] == (s.truth[i] == 1 ? 1 : 0));
+  }
+}
+
 TEST_CASE("column profiles: a return level with the ground before it is not a single rise",
           "[detector][profiles]") {
   // A levee: the road at 7 m, its shoulder at 8.4 m, the fields 1.9 m lower at 19.6 m. The
