@@ -244,6 +244,28 @@ bool ColumnProfiles::bends_on(Index k, Index end, float step, float bend) const 
   return false;
 }
 
+// Whether return k (points [k + 1, end) beyond it) lies over the sensor, met by a rising
+// ray, on a surface rising more steeply than that ray: each of the column's next
+// rising_ray_returns returns rises from the one before at least as steeply as the ray and
+// is not steep. Ground met by a rising ray rises so; a roof or a canopy is met from below.
+bool ColumnProfiles::rises_over_its_ray(Index k, Index end) const {
+  const ColumnPoint& q = points_[k];
+  if (p_.sensor_z <= 0.f || q.z <= p_.sensor_z) return false;
+  const float ray = (q.z - p_.sensor_z) / q.r;
+  float from_r = q.r, from_z = q.z;
+  int seen = 0;
+  for (Index j = k + 1; j < end && seen < p_.rising_ray_returns; ++j) {
+    const ColumnPoint& next = points_[j];
+    if (next.r < from_r + p_.min_advance_m) continue;
+    const float gradient = (next.z - from_z) / (next.r - from_r);
+    if (next.steep != 0 || gradient > p_.max_gradient || gradient < ray) return false;
+    from_r = next.r;
+    from_z = next.z;
+    ++seen;
+  }
+  return seen == p_.rising_ray_returns;
+}
+
 // One column outwards from the sensor. The profile is the last ground return (r, z) and
 // the gradient dz/dr along the column, starting at the ground under the sensor.
 void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
@@ -279,9 +301,10 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
   // bent over `drift` metres since the point where it holds (resume_curvature_per_m).
   auto resumes_bent = [&](Index k, float step, float drift) {
     const float bend = step - gradient;
-    return profile_size_ <= 2 && std::abs(points_[k].level2_h) <= p_.single_rise_m &&
+    return profile_size_ <= 2 &&
            std::abs(bend) <= p_.resume_gradient_change + p_.resume_curvature_per_m * std::max(0.f, drift) &&
-           bends_on(k, end, step, bend);
+           ((std::abs(points_[k].level2_h) <= p_.single_rise_m && bends_on(k, end, step, bend)) ||
+            rises_over_its_ray(k, end));
   };
   profile_size_ = 0;
   add_to_profile(last_r, last_z);
@@ -352,9 +375,11 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       // last ground return is taken (a car roof is a steep step from it).
       // Before any ground return of the column the profile's gradient is only the start's
       // guess: resuming on it needs the level-2 surface not to disagree (a car roof seen
-      // past a car side next to the sensor, in a jam).
+      // past a car side next to the sensor, in a jam), or ground rising over the sensor.
+      const bool on_guess = profile_size_ > 1 || !(std::abs(q.level2_h) > p_.single_rise_m) ||
+                            rises_over_its_ray(k, end);
       const bool resumes = blocked && (std::abs(step - gradient) <= p_.resume_gradient_change
-                                           ? profile_size_ > 1 || !(std::abs(q.level2_h) > p_.single_rise_m)
+                                           ? on_guess
                                            : resumes_bent(k, step, 0.5f * (last_r + r) - gradient_r));
       accept = std::abs(step) <= p_.max_gradient && (over <= rise || resumes);
       next_gradient = std::clamp(step, gradient - p_.gradient_step, gradient + p_.gradient_step);
@@ -374,6 +399,9 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       continue;
     }
     q.ground = 1;
+    // Resumed past an obstacle as ground over the sensor where level 2 disagrees.
+    q.rises_on = blocked && profile_size_ <= 2 && !(std::abs(q.level2_h) <= p_.single_rise_m) &&
+                 rises_over_its_ray(k, end);
     q.bend = step - gradient;
     // The column's first return, ground level with the ground under the vehicle: that ground
     // going on (rule 4 keeps it, whatever the level-2 surface says).
@@ -424,8 +452,10 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
       const bool before = !bump && previous < end && raised(previous, 0.5f * p_.single_rise_m);
       // A return that kinked the profile up is vouched for only by a raised return close
       // beyond it (the same rise going on), not by one far beyond (a ring-7 return 40 m past
-      // a fence line, where the level-2 surface is extrapolated).
-      const bool vouches_after = points_[k].bend <= p_.kink_gradient ||
+      // a fence line, where the level-2 surface is extrapolated), unless it resumed as ground
+      // over the sensor that the next returns rise on from (rises_over_its_ray: rings near
+      // the horizon land far apart).
+      const bool vouches_after = points_[k].bend <= p_.kink_gradient || points_[k].rises_on != 0 ||
                                  (next < end && points_[next].r - points_[k].r <=
                                                     p_.kink_vouch_span * points_[k].r);
       const bool after = !bump && next < end && vouches_after &&

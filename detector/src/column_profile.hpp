@@ -38,6 +38,13 @@ struct ProfileParams {
   // level-2 surface agrees (within single_rise_m) and the column's next return goes on
   // bending (bends_on).
   float resume_curvature_per_m = 0.025f;
+  // A rising ray (a return over the sensor) meets ground only where the ground rises more
+  // steeply than the ray (a roof or a canopy is met from below, never on top): where the
+  // column's next rising_ray_returns returns each rise from the one before at least that
+  // steeply, with no steep surface among them, the start's guess may resume there even if
+  // the level-2 surface disagrees (the street seen over a ramp's parapet from inside the
+  // ramp, where level 2 follows the ramp).
+  int rising_ray_returns = 2;
   // ... and for the first return of a column, from the ground under the sensor.
   float start_rise_m = 0.25f, start_rise_per_m = 0.12f;
   float drop_m = 0.5f;         // a return this far under the profile starts a lower surface
@@ -114,6 +121,7 @@ class ColumnProfiles {
     // Refused only for an obstacle in front, or as a single rise under the vehicle's ground:
     // the ring may take it (fill_shadows).
     std::uint8_t shadowed = 0;
+    std::uint8_t rises_on = 0;  // resumed as ground over the sensor (rises_over_its_ray)
     std::uint8_t vehicle_ground = 0;  // the column's first return, level with the start
     float bend = 0.f;  // change of the profile's gradient when taken as ground
   };
@@ -123,6 +131,7 @@ class ColumnProfiles {
   void walk_column(std::size_t column, std::size_t begin, std::size_t end);
   [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
   [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
+  [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end) const;
   void check_single_rises(std::size_t begin, std::size_t end);
   template <typename RunFn>
   void for_each_ring_run(const Cloud& cloud, RunFn&& fn) const;

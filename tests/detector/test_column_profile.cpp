@@ -535,6 +535,29 @@ TEST_CASE("column profiles: a far wall's foot past a near wall needs level 2 on 
   CHECK(far_foot(0.f) == 1);  // where level 2 agrees, the band stands
 }
 
+TEST_CASE("column profiles: ground met by a rising ray rises more steeply than the ray",
+          "[detector][profiles]") {
+  // Inside a ramp (sim garage, seed 2, Puck Hi-Res): the parapet 4.3 m out is the column's
+  // first return (rings 0-5); rings 6-8 rise over the sensor (1.8 m) and meet the street
+  // 21-71 m out, 2.7-7.8 m up in the vehicle frame (the vehicle is pitched down the ramp).
+  // Level 2 follows the ramp, 1.5 m under the street. Each ring rises from the one before at
+  // 0.1, more steeply than ring 6's ray (0.043): a surface met from above, ground. A roof
+  // levels off past its first return, and one rising return alone is not enough.
+  const auto street_over_parapet = [](float z7, bool ring8) {
+    Scan s;
+    for (int ring = 0; ring <= 5; ++ring) {
+      add(s, ring, 0, 4.3f, 1.24f + 0.1f * static_cast<float>(ring), 2);
+    }
+    add(s, 6, 0, 21.2f, 2.72f, 1);
+    add(s, 7, 0, 32.6f, z7, 1);
+    if (ring8) add(s, 8, 0, 71.3f, 7.8f, 1);
+    return label(s, std::vector<float>(s.cloud.size(), 1.5f)).ground[6];
+  };
+  CHECK(street_over_parapet(3.87f, true) == 1);
+  CHECK(street_over_parapet(2.9f, true) == 0);    // levels off: met from below
+  CHECK(street_over_parapet(3.87f, false) == 0);  // one rising return
+}
+
 TEST_CASE("column profiles: raised neighbours do not vouch for a bump standing out of both",
           "[detector][profiles]") {
   // Fields 2 m under the road, seen at 10, 20 and 40 m; ring 2 at 25 m meets a bush
