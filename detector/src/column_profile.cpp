@@ -24,7 +24,11 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   const Index columns = column_start_.size() - 1;
   for (Index c = 0; c < columns; ++c) walk_column(c, column_start_[c], column_start_[c + 1]);
   ground.resize(cloud.size());
-  for (const ColumnPoint& q : points_) ground[q.index] = q.ground;
+  road_beyond_.resize(cloud.size());
+  for (const ColumnPoint& q : points_) {
+    ground[q.index] = q.ground;
+    road_beyond_[q.index] = q.road_beyond;
+  }
   // Silhouettes first: an object standing out (a facade's ring line that the walk took past
   // a fence line) must not vouch for a single rise below it.
   remove_silhouettes(cloud, ground);
@@ -65,9 +69,29 @@ void ColumnProfiles::for_each_ring_run(const Cloud& cloud, RunFn&& fn) const {
 // farther on. (Ground refused in the shadow of an obstacle within a run is filled in
 // afterwards: fill_shadows.)
 void ColumnProfiles::remove_silhouettes(const Cloud& cloud,
-                                        std::vector<std::uint8_t>& ground) const {
+                                        std::vector<std::uint8_t>& ground) {
+  stands_out_.assign(cloud.size(), 0);
   for_each_ring_run(cloud, [&](Index first, Index last, Index a, Index b) {
     if (!stands_out(cloud, first, last, a, b)) return;
+    std::fill(stands_out_.begin() + static_cast<std::ptrdiff_t>(a),
+              stands_out_.begin() + static_cast<std::ptrdiff_t>(b) + 1, std::uint8_t{1});
+  });
+  for_each_ring_run(cloud, [&](Index, Index, Index a, Index b) {
+    if (stands_out_[a] == 0) return;
+    // A run carrying the road the vehicle stands on (its column's first return level with
+    // the start, the next ground return of the column going on level behind it and not
+    // standing out) over shadow_anchor_m of the ring is that road seen over a short stretch
+    // (the vehicle near a levee's edge, a car beside it), not an object: the next ring
+    // passes over a tree crown level with the road to the fields, or meets the crown again,
+    // standing out as well; over a low object a higher ring sees the road only in its gaps.
+    Index road_first = b + 1, road_last = a;
+    for (Index i = a; i <= b; ++i) {
+      const std::uint32_t beyond = road_beyond_[i];
+      if (beyond == kNoPoint || stands_out_[beyond] != 0) continue;
+      road_first = std::min(road_first, i);
+      road_last = i;
+    }
+    if (road_first <= b && apart(cloud, road_first, road_last, p_.shadow_anchor_m)) return;
     for (Index i = a; i <= b; ++i) ground[i] = 0;
   });
 }
@@ -103,14 +127,16 @@ void ColumnProfiles::fill_shadows(const Cloud& cloud, Index begin, Index end,
 }
 
 // The returns between ground returns a and b (same ring) become ground when every refused
-// one lies within shadow_band_m of the line joining a and b (by column).
+// one lies within shadow_band_m of the line joining a and b (by column); the foot of a wall
+// within steep_band_m of it, as on the profile.
 void ColumnProfiles::fill_between(const Cloud& cloud, Index a, Index b,
                                   std::vector<std::uint8_t>& ground) const {
   const float z0 = cloud.z[a], z1 = cloud.z[b];
   const float span = static_cast<float>(cloud.column[b] - cloud.column[a]);
   for (Index k = a + 1; k < b; ++k) {
     const float t = static_cast<float>(cloud.column[k] - cloud.column[a]) / span;
-    if (ground[k] == 0 && std::abs(cloud.z[k] - (z0 + t * (z1 - z0))) > p_.shadow_band_m) return;
+    const float band = shadowed_[k] == kFoot ? p_.steep_band_m : p_.shadow_band_m;
+    if (ground[k] == 0 && std::abs(cloud.z[k] - (z0 + t * (z1 - z0))) > band) return;
   }
   std::fill(ground.begin() + static_cast<std::ptrdiff_t>(a) + 1,
             ground.begin() + static_cast<std::ptrdiff_t>(b), std::uint8_t{1});
@@ -308,6 +334,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
   };
   profile_size_ = 0;
   add_to_profile(last_r, last_z);
+  Index first_ground = end;  // the column's first ground return
   for (Index k = begin; k < end; ++k) {
     ColumnPoint& q = points_[k];
     const float r = q.r, z = q.z;
@@ -337,7 +364,11 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       q.ground = (std::abs(over) < p_.steep_band_m && !guess_off && !climb_guessed) ||
                  (std::abs(q.plane_h) < p_.steep_band_m &&
                   (std::abs(over) < p_.plane_foot_m || profile_size_ == 1));
-      if (q.ground != 0 && under_a_ray(r, z, q.ring)) q.ground = 0;
+      const bool vetoed = under_a_ray(r, z, q.ring);
+      if (q.ground != 0 && vetoed) q.ground = 0;
+      // The foot of a wall off the profile's band (a post on a crowned road's shoulder): the
+      // ring may take it where it runs on level with its ground on both sides (fill_shadows).
+      if (q.ground == 0 && !vetoed) q.shadowed = kFoot;
       blocked = true;
       continue;
     }
@@ -393,7 +424,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       // fill_shadows may take it from the ring.
       q.shadowed = refused_here && blocked && std::abs(step) <= p_.max_gradient &&
                            !under_a_ray(r, z, q.ring)
-                       ? 1
+                       ? kShadow
                        : 0;
       blocked = true;
       continue;
@@ -407,6 +438,14 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
     // going on (rule 4 keeps it, whatever the level-2 surface says).
     q.vehicle_ground = profile_size_ == 1 && !blocked &&
                        std::abs(z - start_z_) <= 0.5f * p_.single_rise_m;
+    // The column's first ground return level with the start, and this one level with it
+    // (nothing between): the vehicle's road going on.
+    if (profile_size_ == 2 && !blocked && points_[first_ground].vehicle_ground != 0 &&
+        q.ring > points_[first_ground].ring &&
+        std::abs(z - last_z) <= 0.5f * p_.single_rise_m) {
+      points_[first_ground].road_beyond = q.index;
+    }
+    if (profile_size_ == 1) first_ground = k;
     last_r = r;
     last_z = z;
     add_to_profile(r, z);
@@ -475,7 +514,7 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
         // Under the ground the vehicle stands on, the ring may still take it (fill_shadows):
         // terrain falling away (a levee's side grazed by a ring) runs on along the ring from
         // ground to ground, where a fence or a bush stands out of it.
-        points_[k].shadowed = points_[k].z < start_z_ ? 1 : 0;
+        points_[k].shadowed = points_[k].z < start_z_ ? kShadow : 0;
       }
     }
     previous = k;

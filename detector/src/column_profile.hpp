@@ -113,16 +113,23 @@ class ColumnProfiles {
              std::vector<std::uint8_t>& ground, std::vector<float>& height);
 
  private:
+  static constexpr std::uint32_t kNoPoint = 0xffffffffu;
+  static constexpr std::uint8_t kShadow = 1, kFoot = 2;
   // A return as the walk sees it, gathered in column order.
   struct ColumnPoint {
     float r, z, level2_h, plane_h, over;
     std::uint32_t index;  // cloud point
     std::uint8_t ring, steep, ground;
-    // Refused only for an obstacle in front, or as a single rise under the vehicle's ground:
-    // the ring may take it (fill_shadows).
+    // Refused only for an obstacle in front, or as a single rise under the vehicle's ground
+    // (kShadow), or a steep return off the profile's steep band (kFoot): the ring may take
+    // it (fill_shadows).
     std::uint8_t shadowed = 0;
     std::uint8_t rises_on = 0;  // resumed as ground over the sensor (rises_over_its_ray)
     std::uint8_t vehicle_ground = 0;  // the column's first return, level with the start
+    // ... and the cloud index of the column's next ground return when that goes on level
+    // from it (a higher ring, nothing between): the road the vehicle stands on, seen by two
+    // rings, unless that return stands out itself (remove_silhouettes).
+    std::uint32_t road_beyond = kNoPoint;
     float bend = 0.f;  // change of the profile's gradient when taken as ground
   };
   void gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
@@ -135,7 +142,7 @@ class ColumnProfiles {
   void check_single_rises(std::size_t begin, std::size_t end);
   template <typename RunFn>
   void for_each_ring_run(const Cloud& cloud, RunFn&& fn) const;
-  void remove_silhouettes(const Cloud& cloud, std::vector<std::uint8_t>& ground) const;
+  void remove_silhouettes(const Cloud& cloud, std::vector<std::uint8_t>& ground);
   void fill_shadows(const Cloud& cloud, std::size_t begin, std::size_t end,
                     std::vector<std::uint8_t>& ground) const;
   void fill_between(const Cloud& cloud, std::size_t a, std::size_t b,
@@ -156,6 +163,8 @@ class ColumnProfiles {
   std::vector<std::uint32_t> column_start_, cursor_;
   std::vector<ColumnPoint> points_;
   std::vector<std::uint8_t> shadowed_;  // ColumnPoint::shadowed by cloud point
+  std::vector<std::uint32_t> road_beyond_;  // ColumnPoint::road_beyond by cloud point
+  std::vector<std::uint8_t> stands_out_;     // in a run standing out (remove_silhouettes)
 };
 
 }  // namespace vlpground::detail

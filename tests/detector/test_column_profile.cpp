@@ -578,3 +578,43 @@ TEST_CASE("column profiles: raised neighbours do not vouch for a bump standing o
   // Where the level-2 surface rises 0.4 m there too, it is no bump over that surface.
   CHECK(bush(0.65f, 0.4f) == std::vector<std::uint8_t>{1, 1, 1, 1});
 }
+
+TEST_CASE("column profiles: the vehicle's road seen by two rings over a short stretch is ground",
+          "[detector][profiles]") {
+  // Sim embankment (seed 3, frame 4): the vehicle near a levee's edge; ring 0 meets the road
+  // 7.3 m out only over 45 columns (5.5 m along the ring), passing over the edge to the
+  // fields 1.9 m lower on both sides: a short run open to farther returns at both ends
+  // (rule 5). Ring 1 goes on on the road 8.4 m out in the same columns, one run longer than
+  // silhouette_max_m.
+  enum Kind { kRoad, kRoadRing1Lower, kCrown, kLowObject };
+  const auto scene = [](Kind kind) {
+    Scan s;
+    const bool crown = kind == kCrown;
+    auto on_road = [&](int col) { return crown ? col >= 30 && col <= 38 : col >= 20 && col <= 64; };
+    for (int col = 0; col <= 84; ++col) {
+      if (!on_road(col)) add(s, 0, col, 14.f, -1.9f, 1);
+      else if (crown) add(s, 0, col, 10.5f, 0.1f, 2);
+      else if (kind == kLowObject) add(s, 0, col, 7.3f, 0.12f, 2);
+      else add(s, 0, col, 7.3f, -0.03f, 1);
+    }
+    for (int col = 0; col <= 84; ++col) {
+      if (!on_road(col)) add(s, 1, col, 16.5f, -1.9f, 1);
+      else if (crown) add(s, 1, col, 11.7f, 0.15f, 2);
+      else if (kind == kLowObject && col != 42) add(s, 1, col, 7.9f, 0.3f, 2);
+      else add(s, 1, col, 8.4f, kind == kRoadRing1Lower ? -0.35f : -0.03f, 1);
+    }
+    const auto ground = label(s).ground;
+    int kept = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      if (s.cloud.ring[i] == 0 && on_road(s.cloud.column[i])) kept += ground[i];
+    }
+    return kept;
+  };
+  CHECK(scene(kRoad) == 45);  // the road, going on level behind ring 0
+  CHECK(scene(kRoadRing1Lower) == 0);  // ring 1 not level with it: nothing vouches for it
+  // A tree crown in the fields level with the road (ring 0 at 10.5 m) is met again by ring
+  // 1, which stands out as well; a low object level with the road, where ring 1 sees the
+  // road behind it in one gap only (not over shadow_anchor_m of the ring): objects.
+  CHECK(scene(kCrown) == 0);
+  CHECK(scene(kLowObject) == 0);
+}
