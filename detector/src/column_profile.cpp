@@ -33,7 +33,10 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   // a fence line) must not vouch for a single rise below it.
   remove_silhouettes(cloud, ground);
   for (ColumnPoint& q : points_) q.ground = ground[q.index];
-  for (Index c = 0; c < columns; ++c) check_single_rises(column_start_[c], column_start_[c + 1]);
+  for (Index c = 0; c < columns; ++c) {
+    drop_raised_groups(column_start_[c], column_start_[c + 1]);
+    check_single_rises(column_start_[c], column_start_[c + 1]);
+  }
   height.resize(cloud.size());
   shadowed_.resize(cloud.size());
   for (const ColumnPoint& q : points_) {
@@ -453,6 +456,43 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
     gradient_r = next_gradient_r;
     blocked = false;
     last_ring = q.ring;
+  }
+}
+
+// A group of consecutive raised ground returns of a column (over half single_rise_m above
+// the level-2 surface, along at most bump_group_max_m), each standing more than drop_m over
+// the ground both before it (or the start) and after it, is an object the walk climbed (a
+// car roof, a fence top seen by two rings): its members vouch for each other under rule 4,
+// so the group is dropped whole.
+void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
+  auto neighbour = [&](Index k) { return points_[k].ground != 0 && points_[k].steep == 0; };
+  auto raised = [&](Index k) {
+    const float h = points_[k].level2_h;
+    return std::isfinite(h) && h > 0.5f * p_.single_rise_m;
+  };
+  float before_z = start_z_;
+  Index k = begin;
+  while (k < end) {
+    if (!neighbour(k) || !raised(k)) {
+      if (neighbour(k)) before_z = points_[k].z;
+      ++k;
+      continue;
+    }
+    Index last = k, after = k + 1;
+    for (; after < end; ++after) {
+      if (!neighbour(after)) continue;
+      if (!raised(after)) break;
+      last = after;
+    }
+    if (after < end && points_[last].r - points_[k].r <= p_.bump_group_max_m) {
+      const float floor_z = std::max(before_z, points_[after].z) + p_.drop_m;
+      bool stands = true;
+      for (Index g = k; g <= last && stands; ++g) stands = !neighbour(g) || points_[g].z > floor_z;
+      for (Index g = k; g <= last && stands; ++g) {
+        if (neighbour(g)) points_[g].ground = 0;
+      }
+    }
+    k = after;
   }
 }
 

@@ -71,6 +71,10 @@ struct ProfileParams {
   // ... and a raised ground return after it vouches for it only within kink_vouch_span x
   // its distance (the rise going on), not far beyond.
   float kink_vouch_span = 0.25f;
+  // Consecutive raised ground returns of a column along at most this, each more than drop_m
+  // over the ground before and after them, are an object the walk climbed (a car roof, a
+  // fence top seen by two rings), however they vouch for each other.
+  float bump_group_max_m = 4.f;
   // Past an obstacle a return this close to a level-1 plane that explains its cell is ground
   // (the plane is trusted where it explains the ground; the cells' own fits are not).
   float plane_band_m = 0.1f;
@@ -139,6 +143,7 @@ class ColumnProfiles {
   [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
   [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
   [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end) const;
+  void drop_raised_groups(std::size_t begin, std::size_t end);
   void check_single_rises(std::size_t begin, std::size_t end);
   template <typename RunFn>
   void for_each_ring_run(const Cloud& cloud, RunFn&& fn) const;

@@ -618,3 +618,26 @@ TEST_CASE("column profiles: the vehicle's road seen by two rings over a short st
   CHECK(scene(kCrown) == 0);
   CHECK(scene(kLowObject) == 0);
 }
+
+TEST_CASE("column profiles: a group of raised returns standing out of the ground on both sides "
+          "is an object", "[detector][profiles]") {
+  // Fields 2 m under the road, seen at 10, 20 and 40 m; rings 2 and 3 meet a car roof
+  // `roof_m` over them, `roof_length_m` long (a gentle rise from ring 1, within the
+  // allowance). The level-2 cells lie 0.1 m under the fields; the roof's two returns are
+  // raised by its height more and vouch for each other (rule 4).
+  const auto roof = [](float roof_m, float roof_length_m = 1.5f) {
+    Scan s;
+    const float r[] = {10.f, 20.f, 25.f, 25.f + roof_length_m, 40.f};
+    for (int ring = 0; ring < 5; ++ring) {
+      const bool on_roof = ring == 2 || ring == 3;
+      add(s, ring, 0, r[ring], on_roof ? -2.f + roof_m : -2.f, on_roof ? 2 : 1);
+    }
+    std::vector<float> level2 = {0.1f, 0.1f, 0.1f + roof_m, 0.1f + roof_m, 0.1f};
+    return label(s, level2).ground;
+  };
+  CHECK(roof(0.65f) == std::vector<std::uint8_t>{1, 1, 0, 0, 1});
+  // 0.4 m over the fields on both sides: a hump the fields may have.
+  CHECK(roof(0.4f) == std::vector<std::uint8_t>{1, 1, 1, 1, 1});
+  // Longer than bump_group_max_m: a rise of the terrain, left to rule 4.
+  CHECK(roof(0.65f, 6.f) == std::vector<std::uint8_t>{1, 1, 1, 1, 1});
+}
