@@ -44,15 +44,13 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
     height[q.index] = q.over;
     shadowed_[q.index] = q.shadowed;
   }
-  for_each_ring_run(cloud, [&](Index, Index, Index a, Index b) {
-    fill_shadows(cloud, a, b + 1, ground);
-  });
+  for (const RingRun& run : runs_) fill_shadows(cloud, run.a, run.b + 1, ground);
 }
 
-// Along each ring (strongest layer), runs of returns continuous in space: fn(first, last,
-// a, b) for the run [a, b] of the ring's returns [first, last).
-template <typename RunFn>
-void ColumnProfiles::for_each_ring_run(const Cloud& cloud, RunFn&& fn) const {
+// Along each ring (strongest layer), runs of returns continuous in space: the run [a, b]
+// of the ring's returns [first, last), found once per frame (positions only).
+void ColumnProfiles::find_ring_runs(const Cloud& cloud) {
+  runs_.clear();
   const RingRuns rows = point_ring_runs(cloud, 0, strongest_end(cloud));
   for (int ring = 0; ring < kLasers; ++ring) {
     const Index first = rows[static_cast<Index>(ring)], last = rows[static_cast<Index>(ring) + 1];
@@ -60,7 +58,7 @@ void ColumnProfiles::for_each_ring_run(const Cloud& cloud, RunFn&& fn) const {
     while (a < last) {
       Index b = a;
       while (b + 1 < last && continuous(cloud, b, b + 1)) ++b;
-      fn(first, last, a, b);
+      runs_.push_back({first, last, a, b});
       a = b + 1;
     }
   }
@@ -74,13 +72,15 @@ void ColumnProfiles::for_each_ring_run(const Cloud& cloud, RunFn&& fn) const {
 void ColumnProfiles::remove_silhouettes(const Cloud& cloud,
                                         std::vector<std::uint8_t>& ground) {
   stands_out_.assign(cloud.size(), 0);
-  for_each_ring_run(cloud, [&](Index first, Index last, Index a, Index b) {
-    if (!stands_out(cloud, first, last, a, b)) return;
-    std::fill(stands_out_.begin() + static_cast<std::ptrdiff_t>(a),
-              stands_out_.begin() + static_cast<std::ptrdiff_t>(b) + 1, std::uint8_t{1});
-  });
-  for_each_ring_run(cloud, [&](Index, Index, Index a, Index b) {
-    if (stands_out_[a] == 0) return;
+  find_ring_runs(cloud);
+  for (const RingRun& run : runs_) {
+    if (!stands_out(cloud, run.first, run.last, run.a, run.b)) continue;
+    std::fill(stands_out_.begin() + static_cast<std::ptrdiff_t>(run.a),
+              stands_out_.begin() + static_cast<std::ptrdiff_t>(run.b) + 1, std::uint8_t{1});
+  }
+  for (const RingRun& run : runs_) {
+    const Index a = run.a, b = run.b;
+    if (stands_out_[a] == 0) continue;
     // A run carrying the road the vehicle stands on (its column's first return level with
     // the start, the next ground return of the column going on level behind it and not
     // standing out) over shadow_anchor_m of the ring is that road seen over a short stretch
@@ -94,9 +94,9 @@ void ColumnProfiles::remove_silhouettes(const Cloud& cloud,
       road_first = std::min(road_first, i);
       road_last = i;
     }
-    if (road_first <= b && apart(cloud, road_first, road_last, p_.shadow_anchor_m)) return;
+    if (road_first <= b && apart(cloud, road_first, road_last, p_.shadow_anchor_m)) continue;
     for (Index i = a; i <= b; ++i) ground[i] = 0;
-  });
+  }
 }
 
 // Run [begin, end) of one ring: an obstacle near the sensor (a trunk, a box, a car) hides

@@ -145,8 +145,7 @@ class ColumnProfiles {
   [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end) const;
   void drop_raised_groups(std::size_t begin, std::size_t end);
   void check_single_rises(std::size_t begin, std::size_t end);
-  template <typename RunFn>
-  void for_each_ring_run(const Cloud& cloud, RunFn&& fn) const;
+  void find_ring_runs(const Cloud& cloud);
   void remove_silhouettes(const Cloud& cloud, std::vector<std::uint8_t>& ground);
   void fill_shadows(const Cloud& cloud, std::size_t begin, std::size_t end,
                     std::vector<std::uint8_t>& ground) const;
@@ -170,6 +169,11 @@ class ColumnProfiles {
   std::vector<std::uint8_t> shadowed_;  // ColumnPoint::shadowed by cloud point
   std::vector<std::uint32_t> road_beyond_;  // ColumnPoint::road_beyond by cloud point
   std::vector<std::uint8_t> stands_out_;     // in a run standing out (remove_silhouettes)
+  // A run [a, b] of returns continuous along a ring whose returns are [first, last).
+  struct RingRun {
+    std::size_t first, last, a, b;
+  };
+  std::vector<RingRun> runs_;  // every ring's runs (strongest layer), in ring order
 };
 
 }  // namespace vlpground::detail
