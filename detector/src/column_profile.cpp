@@ -29,6 +29,7 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
     ground[q.index] = q.ground;
     road_beyond_[q.index] = q.road_beyond;
   }
+  find_ring_runs(cloud);  // for the silhouettes and the shadows
   // Silhouettes first: an object standing out (a facade's ring line that the walk took past
   // a fence line) must not vouch for a single rise below it.
   remove_silhouettes(cloud, ground);
@@ -72,7 +73,6 @@ void ColumnProfiles::find_ring_runs(const Cloud& cloud) {
 void ColumnProfiles::remove_silhouettes(const Cloud& cloud,
                                         std::vector<std::uint8_t>& ground) {
   stands_out_.assign(cloud.size(), 0);
-  find_ring_runs(cloud);
   for (const RingRun& run : runs_) {
     if (!stands_out(cloud, run.first, run.last, run.a, run.b)) continue;
     std::fill(stands_out_.begin() + static_cast<std::ptrdiff_t>(run.a),
@@ -459,17 +459,26 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
   }
 }
 
+// A ground return of its column that may vouch for its neighbours (rule 4): not on a steep
+// surface taken for the foot of a wall.
+bool ColumnProfiles::is_ground_neighbour(Index k) const {
+  return points_[k].ground != 0 && points_[k].steep == 0;
+}
+
+// Whether return k lies more than `by` over the level-2 surface.
+bool ColumnProfiles::raised_over_level2(Index k, float by) const {
+  const float h = points_[k].level2_h;
+  return std::isfinite(h) && h > by;
+}
+
 // A group of consecutive raised ground returns of a column (over half single_rise_m above
 // the level-2 surface, along at most bump_group_max_m), each standing more than drop_m over
 // the ground both before it (or the start) and after it, is an object the walk climbed (a
 // car roof, a fence top seen by two rings): its members vouch for each other under rule 4,
 // so the group is dropped whole.
 void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
-  auto neighbour = [&](Index k) { return points_[k].ground != 0 && points_[k].steep == 0; };
-  auto raised = [&](Index k) {
-    const float h = points_[k].level2_h;
-    return std::isfinite(h) && h > 0.5f * p_.single_rise_m;
-  };
+  auto neighbour = [&](Index k) { return is_ground_neighbour(k); };
+  auto raised = [&](Index k) { return raised_over_level2(k, 0.5f * p_.single_rise_m); };
   float before_z = start_z_;
   Index k = begin;
   while (k < end) {
@@ -501,11 +510,8 @@ void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
 // column (the ground return before or after it along the profile; a return on a steep
 // surface taken for the foot of a wall does not count).
 void ColumnProfiles::check_single_rises(Index begin, Index end) {
-  auto raised = [&](Index k, float by) {
-    const float h = points_[k].level2_h;
-    return std::isfinite(h) && h > by;
-  };
-  auto neighbour = [&](Index k) { return points_[k].ground != 0 && points_[k].steep == 0; };
+  auto raised = [&](Index k, float by) { return raised_over_level2(k, by); };
+  auto neighbour = [&](Index k) { return is_ground_neighbour(k); };
   Index previous = end;  // previous ground return of the column
   for (Index k = begin; k < end; ++k) {
     if (!neighbour(k)) continue;

@@ -143,6 +143,8 @@ class ColumnProfiles {
   [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
   [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
   [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end) const;
+  [[nodiscard]] bool is_ground_neighbour(std::size_t k) const;
+  [[nodiscard]] bool raised_over_level2(std::size_t k, float by) const;
   void drop_raised_groups(std::size_t begin, std::size_t end);
   void check_single_rises(std::size_t begin, std::size_t end);
   void find_ring_runs(const Cloud& cloud);
