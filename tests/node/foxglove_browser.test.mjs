@@ -118,17 +118,21 @@ test("the web page in headless Chromium: frame counter advancing, ground and obs
       if (!Number.isInteger(first)) await new Promise((r) => setTimeout(r, 100));
     }
     assert.ok(Number.isInteger(first), "the page shows a frame number");
-    // Until the counter moved on, the rates arrived (status, once a second) and a whole
-    // rotation is on screen (the capture's partial first and last rotations are smaller).
+    // Until the counter moved on, a status (once a second) showed the replay's ~10 Hz and a
+    // whole rotation is on screen (the capture's partial first and last rotations are
+    // smaller). The rate is frames per second since the previous status, so one second of a
+    // slow start (a sanitizer build beside a starting browser) may show less: the next
+    // status is awaited rather than timed.
+    const tenHertz = (r) => r > 5 && r < 15;
     let rate = NaN, points = 0;
-    while (!(frame >= first + 3 && Number.isFinite(rate) && points > 15000) && Date.now() < deadline) {
+    while (!(frame >= first + 3 && tenHertz(rate) && points > 15000) && Date.now() < deadline) {
       frame = Number.parseInt(await text("frame"), 10);
       rate = Number.parseFloat(await text("rate"));
       points = Number(await text("points"));
       await new Promise((r) => setTimeout(r, 50));
     }
     assert.ok(frame >= first + 3, `the frame counter advances: ${first} -> ${frame}`);
-    assert.ok(rate > 5 && rate < 15, `the frame rate shows ~10 Hz: ${rate}`);
+    assert.ok(tenHertz(rate), `the frame rate shows ~10 Hz: ${rate}`);
     assert.ok(points > 15000, `a whole rotation drawn: ${points} points`);
     assert.match(await text("state"), /connected/);
     assert.match(await text("gps"), /PPS locked/);
