@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "cli/capture_probe.hpp"
 #include "cli/options.hpp"
@@ -22,7 +23,9 @@ class EvalCommand : public Command {
         "present (simulator captures)");
     cmd->add_option("capture", pcap_path_, "the capture")->type_name("FILE.pcap")->required();
     cmd->add_option("--labels", labels_path_,
-                    "ground truth: one byte per return slot (docs/data-format.md)")
+                    "ground truth: one byte per return slot (README, Data formats); the "
+                    "exact heights above the terrain are read from X.heights beside X.labels "
+                    "when present")
         ->type_name("FILE")
         ->required();
     cmd->add_option("--radius", radius_, "score returns within this horizontal range (m)")
@@ -82,6 +85,9 @@ class EvalCommand : public Command {
           {"tn", c.tn},
           {"detect_ms_total", result.detect_ms_total},
           {"high_obstacle_as_ground_rate", result.score.high_obstacle_as_ground_rate()},
+          {"high_obstacles", result.score.high_obstacles},
+          {"high_obstacles_as_ground", result.score.high_obstacles_as_ground},
+          {"high_obstacle_terrain", std::string(eval::to_string(result.score.terrain_source()))},
       };
       std::printf("%s\n", j.dump(2).c_str());
     } else {
@@ -93,11 +99,33 @@ class EvalCommand : public Command {
       std::printf("%-10s tp %llu, fp %llu, fn %llu, tn %llu\n", "counts",
                   static_cast<unsigned long long>(c.tp), static_cast<unsigned long long>(c.fp),
                   static_cast<unsigned long long>(c.fn), static_cast<unsigned long long>(c.tn));
+      print_high_obstacles(result.score);
     }
     return kExitOk;
   }
 
  private:
+  // Obstacles more than 0.5 m above the terrain labelled ground, and how the terrain was known.
+  void print_high_obstacles(const eval::Score& score) const {
+    std::printf("%-10s %llu of %llu labelled ground (%.4f)\n", "high obst.",
+                static_cast<unsigned long long>(score.high_obstacles_as_ground),
+                static_cast<unsigned long long>(score.high_obstacles),
+                score.high_obstacle_as_ground_rate());
+    switch (score.terrain_source()) {
+      case eval::TerrainSource::exact:
+        std::printf("%-10s exact heights from %s\n", "terrain",
+                    eval::heights_path_beside(labels_path_).string().c_str());
+        break;
+      case eval::TerrainSource::estimated:
+        std::printf("%-10s estimated from the truth-ground returns (no %s)\n", "terrain",
+                    eval::heights_path_beside(labels_path_).string().c_str());
+        break;
+      default:
+        std::printf("%-10s %s\n", "terrain",
+                    std::string(eval::to_string(score.terrain_source())).c_str());
+    }
+  }
+
   std::string pcap_path_, labels_path_;
   double radius_ = eval::ScoreConfig{}.radius_m;
   bool json_ = false;

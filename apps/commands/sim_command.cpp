@@ -74,8 +74,8 @@ class SimCommand : public Command {
   explicit SimCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "sim",
-        "write a labelled synthetic capture (STEM.pcap, STEM.labels, STEM.json), or "
-        "stream it over UDP");
+        "write a labelled synthetic capture (STEM.pcap, STEM.labels, STEM.heights, STEM.json), "
+        "or stream it over UDP");
     sim::SimConfig& c = options_;
     cmd->add_option_function<std::string>(
            "scene",
@@ -105,7 +105,7 @@ class SimCommand : public Command {
     add_choice_option<Model>(*cmd, "--model", c.model,
                              {{"vlp16", Model::vlp16}, {"hires", Model::hires}}, "sensor model");
     cmd->add_option("--out", out_,
-                    "write STEM.pcap, STEM.labels, STEM.json (an existing directory: "
+                    "write STEM.pcap, STEM.labels, STEM.heights, STEM.json (an existing directory: "
                     "DIR/SCENE.*)")
         ->type_name("STEM")
         ->default_str("SCENE");
@@ -173,14 +173,14 @@ class SimCommand : public Command {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     std::printf(
         "wrote %s.pcap (%llu data + %llu position packets, %.3f s of capture), %s.labels "
-        "(%llu returns, %.1f%% ground), %s.json in %.2f s\n",
+        "(%llu returns, %.1f%% ground), %s.heights, %s.json in %.2f s\n",
         out_.c_str(), static_cast<unsigned long long>(summary.data_packets),
         static_cast<unsigned long long>(summary.position_packets), summary.duration_s, out_.c_str(),
         static_cast<unsigned long long>(summary.returns),
         summary.returns ? 100.0 * static_cast<double>(summary.ground_returns) /
                               static_cast<double>(summary.returns)
                         : 0.0,
-        out_.c_str(), seconds);
+        out_.c_str(), out_.c_str(), seconds);
     return kExitOk;
   }
 

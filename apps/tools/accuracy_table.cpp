@@ -87,10 +87,12 @@ void print_preamble(const std::string& sources, int frames, const std::string& r
       "ground is the positive class; ambiguous returns (obstacle < 0.15 m above the terrain) "
       "are left out; in dual mode both returns count, a last return that repeats the "
       "strongest echo once. *High obstacles as ground*: share of truth-obstacle returns more "
-      "than 0.5 m above the terrain that were labelled ground; the terrain height under a "
-      "return is the median z of the truth-ground returns within 2.5 m horizontally in the "
-      "same frame, else the z of the truth-ground return of its 5-degree azimuth sector "
-      "nearest in range (returns with neither are not counted). *detect ms/frame* is the wall "
+      "than 0.5 m above the terrain that were labelled ground; a return's height above the "
+      "terrain is the simulator's exact one (`STEM.heights` beside `STEM.labels`) when the "
+      "capture has that file, otherwise estimated: its z above the median z of the "
+      "truth-ground returns within 2.5 m horizontally in the same frame, else above the z of "
+      "the truth-ground return of its 5-degree azimuth sector nearest in range (returns with "
+      "neither are not counted); each section says which. *detect ms/frame* is the wall "
       "time of `GroundDetector::detect` on the machine that generated the table (shared, "
       "indicative only; speed goals live in the benchmarks).\n\n",
       revision.c_str(), sources.c_str(),
@@ -116,6 +118,20 @@ void print_preamble(const std::string& sources, int frames, const std::string& r
       "[-40, 40] m in x, N_LPR = 20, Th_seeds = 0.4 m, 3 iterations, Th_dist = 0.2 m). Both "
       "baselines fit on the returns within 40 m sub-sampled on the 0.1 m grid, as in the "
       "paper's experiments, and label every return.\n\n");
+}
+
+// One line saying how the terrain under the high obstacles of a section was known.
+void print_terrain_note(vlpground::eval::TerrainSource source) {
+  using vlpground::eval::TerrainSource;
+  const char* text = "no truth obstacle was scored";
+  if (source == TerrainSource::exact) {
+    text = "exact heights (`.heights`) for every capture";
+  } else if (source == TerrainSource::estimated) {
+    text = "estimated from the truth-ground returns (no `.heights`)";
+  } else if (source == TerrainSource::mixed) {
+    text = "exact heights where a capture has `.heights`, estimated for the others";
+  }
+  std::printf("Terrain under the high obstacles: %s.\n\n", text);
 }
 
 void print_header() {
@@ -161,6 +177,7 @@ void per_capture(const fs::path& dir, int frames) {
   print_header();
   for (const auto& total : totals) print_row(total);
   std::printf("\n");
+  if (!totals.empty()) print_terrain_note(totals.front().score.terrain_source());
 }
 
 // Worst case over the captures of one scene kind, for one method.
@@ -181,12 +198,15 @@ struct KindSummary {
 
 void per_kind(const std::string& name, const fs::path& dir, int frames) {
   std::map<std::pair<std::string, int>, KindSummary> table;  // (kind, method index)
+  vlpground::eval::Score all;                                // for the terrain note
   for (const auto& pcap : labelled_captures(dir)) {
     const std::string stem = pcap.stem().string();
     const std::string kind = stem.substr(0, stem.find('_'));
     const auto scores = score(pcap, frames);
-    for (std::size_t k = 0; k < scores.size(); ++k)
+    for (std::size_t k = 0; k < scores.size(); ++k) {
       table[{kind, static_cast<int>(k)}].add(scores[k]);
+      all += scores[k].score;
+    }
   }
   std::printf(
       "## Evaluation set `%s`: worst capture per scene kind and method\n\n"
@@ -200,6 +220,7 @@ void per_kind(const std::string& name, const fs::path& dir, int frames) {
                 s.worst.c_str());
   }
   std::printf("\n");
+  print_terrain_note(all.terrain_source());
   std::fflush(stdout);
 }
 

@@ -1,6 +1,8 @@
 // Developer tool (not installed): one CSV row per return of a labelled capture, in the
-// vehicle frame (the capture's STEM.json mounting as extrinsics), with its truth byte and the
-// detector's label, for looking at where a method fails (docs/detector.md).
+// vehicle frame (the capture's STEM.json mounting as extrinsics), with its truth byte, its
+// exact height above the terrain (column `above`, from the .heights beside the labels; empty
+// without one) and the detector's label, for looking at where a method fails
+// (docs/detector.md).
 //
 //   vlpground_dump_points CAPTURE.pcap LABELS OUT.csv [profiles|cells|paper]
 #include <cstdio>
@@ -14,6 +16,15 @@ namespace fs = std::filesystem;
 using namespace vlpground;
 
 namespace {
+
+// The `above` column: the slot's exact height above the terrain (m), empty when unknown.
+std::string above_cell(const eval::GroundTruth& truth, const eval::SlotRef& s) {
+  const auto above = truth.height_above_terrain_m(s.packet, s.slot());
+  if (!above) return "";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f", static_cast<double>(*above));
+  return text;
+}
 
 void write_frame(std::FILE* out, int number, const Frame& f, const GroundResult& r,
                  const eval::GroundTruth& truth, const RigidTransform& tf) {
@@ -31,9 +42,10 @@ void write_frame(std::FILE* out, int number, const Frame& f, const GroundResult&
           v[k] = tf.r[k][0] * p[0] + tf.r[k][1] * p[1] + tf.r[k][2] * p[2] + tf.t[k];
         const std::size_t o = static_cast<std::size_t>(ring) * static_cast<std::size_t>(r.stride) +
                               static_cast<std::size_t>(col);
-        std::fprintf(out, "%d,%d,%d,%d,%.3f,%.3f,%.3f,%d,%d,%.3f\n", number, ring, col, layer, v[0],
-                     v[1], v[2], static_cast<int>(truth.at(s.packet, s.slot())),
-                     static_cast<int>(r.label[layer][o]), static_cast<double>(r.height_m[layer][o]));
+        std::fprintf(out, "%d,%d,%d,%d,%.3f,%.3f,%.3f,%d,%d,%.3f,%s\n", number, ring, col, layer,
+                     v[0], v[1], v[2], static_cast<int>(truth.at(s.packet, s.slot())),
+                     static_cast<int>(r.label[layer][o]), static_cast<double>(r.height_m[layer][o]),
+                     above_cell(truth, s).c_str());
       }
     }
   }
@@ -60,13 +72,13 @@ int main(int argc, char** argv) {
     c.terrain_refinement = mode != "paper";
     c.column_profiles = mode == "profiles";
     const RigidTransform tf = vehicle_from_sensor(c.extrinsics);
-    const eval::GroundTruth truth = eval::GroundTruth::load(argv[2]);
+    const eval::GroundTruth truth = eval::GroundTruth::load_with_heights(argv[2]);
     std::FILE* out = std::fopen(argv[3], "w");
     if (out == nullptr) {
       std::fprintf(stderr, "cannot write '%s'\n", argv[3]);
       return 1;
     }
-    std::fprintf(out, "frame,ring,col,layer,x,y,z,truth,pred,h\n");
+    std::fprintf(out, "frame,ring,col,layer,x,y,z,truth,pred,h,above\n");
     eval::CaptureScoreOptions options;
     int number = 0;
     options.on_frame = [&](std::size_t, const Frame& f, const GroundResult& r, const eval::Score&) {

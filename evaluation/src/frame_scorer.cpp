@@ -58,20 +58,32 @@ Score FrameScorer::score(const Frame& frame, const GroundResult& result, const G
   ground_.clear();
   obstacles_.clear();
   obstacle_pred_.clear();
+  obstacle_exact_above_m_.clear();
   collect(frame, result, truth, score);
   index_ground();
   for (std::size_t i = 0; i < obstacles_.size(); ++i) {
-    const float terrain = terrain_height(obstacles_[i]);
-    if (std::isnan(terrain)) {
-      ++score.obstacles_without_terrain;
-      continue;
-    }
-    if (obstacles_[i].z - terrain > static_cast<float>(config_.high_obstacle_m)) {
+    const float above = obstacle_above_terrain_m(i, score);
+    if (above > static_cast<float>(config_.high_obstacle_m)) {  // false for NaN
       ++score.high_obstacles;
       score.high_obstacles_as_ground += obstacle_pred_[i];
     }
   }
   return score;
+}
+
+float FrameScorer::obstacle_above_terrain_m(std::size_t i, Score& score) {
+  const float exact = obstacle_exact_above_m_[i];
+  if (!std::isnan(exact)) {
+    ++score.obstacles_exact_terrain;
+    return exact;
+  }
+  const float terrain = terrain_height(obstacles_[i]);
+  if (std::isnan(terrain)) {
+    ++score.obstacles_without_terrain;
+    return terrain;
+  }
+  ++score.obstacles_estimated_terrain;
+  return obstacles_[i].z - terrain;
 }
 
 void FrameScorer::collect(const Frame& frame, const GroundResult& result, const GroundTruth& truth,
@@ -124,6 +136,8 @@ void FrameScorer::collect(const Frame& frame, const GroundResult& result, const 
         if (!truth_ground) {
           obstacles_.push_back(p);
           obstacle_pred_.push_back(predicted_ground ? 1 : 0);
+          obstacle_exact_above_m_.push_back(truth.height_above_terrain_m(slot.packet, slot.slot())
+                                                .value_or(std::numeric_limits<float>::quiet_NaN()));
         }
       }
     }

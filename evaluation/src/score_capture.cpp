@@ -36,7 +36,7 @@ std::vector<CaptureScore> score_capture(const std::filesystem::path& pcap_path,
     throw std::invalid_argument("CaptureScoreOptions: max_frames must be >= 0 (0 = all)");
   }
   if (detectors.empty()) throw std::invalid_argument("score_capture: no detector configuration");
-  const GroundTruth truth = GroundTruth::load(labels_path);
+  const GroundTruth truth = GroundTruth::load_with_heights(labels_path);
   FrameScorer scorer(options.score);
   std::vector<GroundDetector> ground;
   std::vector<CaptureScore> out(detectors.size());

@@ -55,14 +55,15 @@ py::dict evaluate(const fs::path& pcap, const fs::path& labels, DetectorConfig d
     throw std::runtime_error(pcap.string() + ": no VLP-16 frame decoded, nothing to evaluate");
   }
   const eval::Confusion& c = result.score.all;
-  return py::dict("capture"_a = result.capture, "method"_a = result.method,
-                  "radius_m"_a = radius_m, "frames"_a = result.score.frames,
-                  "precision"_a = c.precision(), "recall"_a = c.recall(), "f1"_a = c.f1(),
-                  "tp"_a = c.tp, "fp"_a = c.fp, "fn"_a = c.fn, "tn"_a = c.tn,
-                  "detect_ms_total"_a = result.detect_ms_total,
-                  "high_obstacle_as_ground_rate"_a = result.score.high_obstacle_as_ground_rate(),
-                  "high_obstacles"_a = result.score.high_obstacles,
-                  "high_obstacles_as_ground"_a = result.score.high_obstacles_as_ground);
+  return py::dict(
+      "capture"_a = result.capture, "method"_a = result.method, "radius_m"_a = radius_m,
+      "frames"_a = result.score.frames, "precision"_a = c.precision(), "recall"_a = c.recall(),
+      "f1"_a = c.f1(), "tp"_a = c.tp, "fp"_a = c.fp, "fn"_a = c.fn, "tn"_a = c.tn,
+      "detect_ms_total"_a = result.detect_ms_total,
+      "high_obstacle_as_ground_rate"_a = result.score.high_obstacle_as_ground_rate(),
+      "high_obstacles"_a = result.score.high_obstacles,
+      "high_obstacles_as_ground"_a = result.score.high_obstacles_as_ground,
+      "high_obstacle_terrain"_a = std::string(eval::to_string(result.score.terrain_source())));
 }
 
 py::dict simulate(const std::string& scene, const fs::path& out, std::uint64_t seed, int frames,
@@ -94,6 +95,7 @@ py::dict simulate(const std::string& scene, const fs::path& out, std::uint64_t s
   }
   const auto with_ext = [&out](const char* ext) { return fs::path(out).concat(ext); };
   return py::dict("pcap"_a = with_ext(".pcap"), "labels"_a = with_ext(".labels"),
+                  "heights"_a = eval::heights_path_beside(with_ext(".labels")),
                   "json"_a = with_ext(".json"), "data_packets"_a = summary.data_packets,
                   "position_packets"_a = summary.position_packets, "returns"_a = summary.returns,
                   "ground_returns"_a = summary.ground_returns, "duration_s"_a = summary.duration_s);

@@ -211,13 +211,15 @@ def test_evaluate_refuses_labels_of_another_capture():
 
 def test_simulate_writes_a_readable_capture(tmp_path):
     out = vlpground.simulate("flat", tmp_path / "sub" / "flat", frames=2, seed=3)
-    for key in ("pcap", "labels", "json"):
+    for key in ("pcap", "labels", "heights", "json"):
         assert out[key].exists()
+    assert out["heights"].stat().st_size == 2 * out["labels"].stat().st_size
     assert out["data_packets"] > 0 and out["returns"] > out["ground_returns"] > 0
     frames = list(vlpground.read_pcap(out["pcap"]))
     assert sum(f.meta.complete for f in frames) == 2
     score = vlpground.evaluate(out["pcap"], out["labels"])
     assert score["frames"] == len(frames) and score["f1"] > 0.95
+    assert score["high_obstacle_terrain"] == "exact"  # the heights beside the labels
     with pytest.raises(ValueError, match="unknown scene"):
         vlpground.simulate("moon", tmp_path / "m")
 

@@ -180,9 +180,11 @@ def evaluate(pcap: PathLike, labels: PathLike, *, method: str = DEFAULT_METHOD,
 
     The same figures, computed by the same evaluation library, as
     ``vlpground eval PCAP --labels LABELS --json``: capture, method, radius_m, frames,
-    precision, recall, f1, tp, fp, fn, tn, detect_ms_total, high_obstacle_as_ground_rate
-    (plus high_obstacles and high_obstacles_as_ground). As the CLI, a simulator capture's
-    mounting pose is read from STEM.json beside it unless ``extrinsics`` is given.
+    precision, recall, f1, tp, fp, fn, tn, detect_ms_total, high_obstacle_as_ground_rate,
+    high_obstacles, high_obstacles_as_ground and high_obstacle_terrain (``"exact"`` when the
+    simulator's ``.heights`` file lies beside the labels, else ``"estimated"``; ``"none"``
+    without obstacles). As the CLI, a simulator capture's mounting pose is read from
+    STEM.json beside it unless ``extrinsics`` is given.
     """
     config = _detector(method, extrinsics, detector)
     return _core._evaluate(os.fspath(pcap), os.fspath(labels), config,
@@ -194,7 +196,7 @@ def simulate(scene: str, out: PathLike, *, seed: int = 1, frames: int = 10, rpm:
              mode: str = "strongest", model: str = "vlp16",
              sensor_height_m: Optional[float] = None, speed_mps: Optional[float] = None,
              roll_deg: float = 0.0, pitch_deg: float = 0.0) -> dict:
-    """Writes a labelled synthetic capture OUT.pcap, OUT.labels and OUT.json.
+    """Writes a labelled synthetic capture OUT.pcap, OUT.labels, OUT.heights and OUT.json.
 
     ``scene`` is one of SCENES (flat, urban, slope, hills, jam, fences); the rest as
     ``vlpground sim``. Returns the paths and a summary (data_packets, position_packets,

@@ -1,4 +1,4 @@
-// pcap + labels + json output of the simulator.
+// pcap + labels + heights + json output of the simulator.
 #include "vlpground/sim/capture_writer.hpp"
 
 #include <array>
@@ -24,6 +24,18 @@ void put16be(std::uint8_t* p, std::uint32_t v) {
 
 void put32le(std::uint8_t* p, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) p[i] = static_cast<std::uint8_t>((v >> (8 * i)) & 0xFF);
+}
+
+// One packet's heights as the .heights file holds them: int16 little-endian per slot.
+std::array<std::uint8_t, 2 * kSlotsPerPacket> heights_le(
+    const std::array<std::int16_t, kSlotsPerPacket>& heights_cm) {
+  std::array<std::uint8_t, 2 * kSlotsPerPacket> out{};
+  for (std::size_t i = 0; i < heights_cm.size(); ++i) {
+    const auto v = static_cast<std::uint16_t>(heights_cm[i]);
+    out[2 * i] = static_cast<std::uint8_t>(v & 0xFF);
+    out[2 * i + 1] = static_cast<std::uint8_t>(v >> 8);
+  }
+  return out;
 }
 
 // One's-complement sum of 16-bit big-endian words (RFC 1071), not yet folded.
@@ -144,6 +156,8 @@ CaptureSummary write_capture(const Simulator& sim, const std::filesystem::path& 
   PcapWriter pcap(with_ext(".pcap"));
   std::ofstream labels(with_ext(".labels"), std::ios::binary | std::ios::trunc);
   if (!labels) throw std::runtime_error("cannot create " + with_ext(".labels").string());
+  std::ofstream heights(with_ext(".heights"), std::ios::binary | std::ios::trunc);
+  if (!heights) throw std::runtime_error("cannot create " + with_ext(".heights").string());
 
   CaptureSummary summary;
   auto packet = std::make_unique<SimulatedPacket>();
@@ -158,6 +172,9 @@ CaptureSummary write_capture(const Simulator& sim, const std::filesystem::path& 
     const auto n = build_udp_frame(packet->bytes, kDataPort, kDataPort, ip_id++, frame);
     pcap.write(packet->capture_ns, std::span(frame.data(), n));
     labels.write(reinterpret_cast<const char*>(packet->labels.data()), kSlotsPerPacket);
+    const auto heights_bytes = heights_le(packet->heights_cm);
+    heights.write(reinterpret_cast<const char*>(heights_bytes.data()),
+                  static_cast<std::streamsize>(heights_bytes.size()));
     for (const std::uint8_t l : packet->labels) {
       summary.returns += l != 0 ? 1u : 0u;
       summary.ground_returns += l == 1 ? 1u : 0u;
@@ -172,6 +189,8 @@ CaptureSummary write_capture(const Simulator& sim, const std::filesystem::path& 
   pcap.close();
   labels.flush();
   if (!labels) throw std::runtime_error("write error on " + with_ext(".labels").string());
+  heights.flush();
+  if (!heights) throw std::runtime_error("write error on " + with_ext(".heights").string());
   std::ofstream json(with_ext(".json"), std::ios::trunc);
   json << describe_json(sim, summary.data_packets);
   if (!json) throw std::runtime_error("write error on " + with_ext(".json").string());

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -76,7 +77,16 @@ struct Simulator::Echo {
   double intensity = 0.0;
   Vec3 world;
   Label label = Label::none;
+  double above_terrain_m = 0.0;  // obstacles only; ground echoes are on the terrain
 };
+
+std::int16_t height_above_terrain_cm(double above_m) {
+  const double cm = std::floor(above_m * 100.0);
+  if (std::isnan(cm)) return 0;
+  constexpr double lowest = std::numeric_limits<std::int16_t>::min();
+  constexpr double highest = std::numeric_limits<std::int16_t>::max();
+  return static_cast<std::int16_t>(std::clamp(cm, lowest, highest));
+}
 
 void SimConfig::validate() const {
   auto fail = [](const std::string& what) { throw std::invalid_argument("sim config: " + what); };
@@ -154,6 +164,7 @@ int Simulator::cast_echoes(const Vec3& origin, const Vec3& dir, std::uint64_t ra
       const Obstacle& o = scene_.obstacles()[static_cast<std::size_t>(hit->object)];
       const double above = e.world.z - terrain.height(e.world.x, e.world.y);
       e.label = above < kLowObstacleHeight_m ? Label::low_obstacle : Label::obstacle;
+      e.above_terrain_m = above;
       e.intensity = o.reflectivity;
       if (o.transparency > 0.f && rng.chance(o.transparency)) {
         // The beam partly passes: maybe a weak first echo, then the surface behind.
@@ -257,6 +268,7 @@ void Simulator::simulate_packet(std::uint64_t index, SimulatedPacket& out) const
           f.distance_2mm[b][c] = 0;
           f.reflectivity[b][c] = 0;
           out.labels[slot] = 0;
+          out.heights_cm[slot] = 0;
           continue;
         }
         const Echo& e = echoes[pick];
@@ -267,7 +279,9 @@ void Simulator::simulate_packet(std::uint64_t index, SimulatedPacket& out) const
         truth.sensor_point = {e.range_m * dir_sensor.x, e.range_m * dir_sensor.y,
                               e.range_m * dir_sensor.z + laser.vertical_offset_m};
         truth.label = e.label;
+        truth.above_terrain_m = e.above_terrain_m;
         out.labels[slot] = static_cast<std::uint8_t>(e.label);
+        out.heights_cm[slot] = height_above_terrain_cm(e.above_terrain_m);
       }
     }
   }

@@ -7,6 +7,7 @@
 using vlpground::GroundLabel;
 using vlpground::eval::FrameScorer;
 using vlpground::eval::ScoreConfig;
+using vlpground::eval::TerrainSource;
 using vlpground::eval::TruthLabel;
 using vlpground::test::LabelledScene;
 
@@ -80,6 +81,54 @@ TEST_CASE("high obstacles are measured against nearby truth ground", "[evaluatio
   CHECK(score.high_obstacles_as_ground == 2);
   CHECK(score.obstacles_without_terrain == 1);
   CHECK(score.high_obstacle_as_ground_rate() == Approx(2.0 / 3.0));
+  CHECK(score.obstacles_estimated_terrain == 4);
+  CHECK(score.obstacles_exact_terrain == 0);
+  CHECK(score.terrain_source() == TerrainSource::estimated);
+}
+
+// A bush on a steep cut slope (1:2, rising along +x): the truth ground near it lies mostly
+// down the slope, so the estimated terrain is too low under some returns and too high under
+// others; the exact heights decide alone, strictly above 0.5 m.
+TEST_CASE("high obstacles use the exact heights when the truth has them", "[evaluation]") {
+  LabelledScene s;
+  for (float x : {8.6f, 8.8f, 9.0f, 9.2f, 9.4f}) {  // lower slope: z = -1.8 + 0.5 (x - 10)
+    s.add(x, 0, -1.8f + 0.5f * (x - 10.0f), TruthLabel::ground, GroundLabel::ground);
+  }
+  // Median of those: -2.3. Each obstacle: estimated height, exact height (cm), prediction.
+  s.add(10.0f, 0.0f, -1.6f, TruthLabel::obstacle, GroundLabel::ground, true, 30);    // 0.7 / 0.30
+  s.add(10.0f, 0.3f, -2.0f, TruthLabel::obstacle, GroundLabel::obstacle, true, 70);  // 0.3 / 0.70
+  s.add(10.0f, 0.6f, -2.0f, TruthLabel::obstacle, GroundLabel::ground, true, 50);    // 0.3 / 0.50
+  s.add(10.0f, 0.9f, -2.0f, TruthLabel::obstacle, GroundLabel::ground, true, 51);    // 0.3 / 0.51
+  s.add(0.0f, -30.0f, -1.0f, TruthLabel::obstacle, GroundLabel::ground, true,
+        80);  // no ground near
+
+  FrameScorer scorer;
+  const auto estimated = scorer.score(s.frame, s.result, s.truth());
+  CHECK(estimated.high_obstacles == 1);  // the first, wrongly: 0.30 m above its slope
+  CHECK(estimated.high_obstacles_as_ground == 1);
+  CHECK(estimated.obstacles_estimated_terrain == 4);
+  CHECK(estimated.obstacles_without_terrain == 1);
+  CHECK(estimated.terrain_source() == TerrainSource::estimated);
+
+  const auto exact = scorer.score(s.frame, s.result, s.truth_with_heights());
+  CHECK(exact.high_obstacles == 3);  // 0.70, 0.51 and the one with no ground near (0.80)
+  CHECK(exact.high_obstacles_as_ground == 2);
+  CHECK(exact.obstacles_exact_terrain == 5);
+  CHECK(exact.obstacles_estimated_terrain == 0);
+  CHECK(exact.obstacles_without_terrain == 0);
+  CHECK(exact.terrain_source() == TerrainSource::exact);
+  // Only the high-obstacle figures change.
+  CHECK(exact.all.tp == estimated.all.tp);
+  CHECK(exact.all.fp == estimated.all.fp);
+  CHECK(exact.all.fn == estimated.all.fn);
+  CHECK(exact.all.tn == estimated.all.tn);
+
+  vlpground::eval::Score sum = exact;
+  sum += estimated;
+  CHECK(sum.terrain_source() == TerrainSource::mixed);
+  CHECK(vlpground::eval::Score{}.terrain_source() == TerrainSource::none);
+  CHECK(to_string(TerrainSource::exact) == "exact");
+  CHECK(to_string(TerrainSource::estimated) == "estimated");
 }
 
 TEST_CASE("dual frames score both layers once per echo", "[evaluation]") {

@@ -23,6 +23,7 @@ struct LabelledScene {
   Frame frame{64};
   GroundResult result;
   std::vector<std::uint8_t> truth_bytes = std::vector<std::uint8_t>(8 * 384, 0);
+  std::vector<std::int16_t> heights_cm = std::vector<std::int16_t>(8 * 384, 0);
 
   LabelledScene() {
     set_vlp16_rings(frame);
@@ -35,9 +36,10 @@ struct LabelledScene {
 
   /// Adds a single-return column (ring 0, laser 0) holding one return at (x, y, z) whose truth
   /// is `truth` and whose predicted label is `predicted`. `valid` = false leaves the cell
-  /// without a return (the truth byte is still written).
+  /// without a return (the truth byte is still written). `above_cm`: its exact height above
+  /// the terrain, seen only through truth_with_heights().
   void add(float x, float y, float z, eval::TruthLabel truth, GroundLabel predicted,
-           bool valid = true) {
+           bool valid = true, std::int16_t above_cm = 0) {
     const int col = frame.append_column();
     const auto c = static_cast<std::size_t>(col);
     frame.column_valid[c] = 1;
@@ -52,12 +54,16 @@ struct LabelledScene {
     layer.range_m[cell] = std::sqrt(x * x + y * y + z * z);
     result.label[0][cell] = static_cast<std::uint8_t>(valid ? predicted : GroundLabel::no_return);
     const eval::SlotRef slot = eval::slot_of_cell(frame, 0, col, 0);
-    truth_bytes[slot.packet * 384 + static_cast<std::size_t>(slot.slot())] =
-        static_cast<std::uint8_t>(truth);
+    const std::size_t at = slot.packet * 384 + static_cast<std::size_t>(slot.slot());
+    truth_bytes[at] = static_cast<std::uint8_t>(truth);
+    heights_cm[at] = above_cm;
     result.columns = frame.columns();
   }
 
   [[nodiscard]] eval::GroundTruth truth() const { return eval::GroundTruth(truth_bytes); }
+  [[nodiscard]] eval::GroundTruth truth_with_heights() const {
+    return eval::GroundTruth(truth_bytes, heights_cm);
+  }
 };
 
 }  // namespace vlpground::test

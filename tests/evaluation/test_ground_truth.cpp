@@ -15,12 +15,15 @@ using vlpground::eval::TruthLabel;
 
 namespace {
 
-std::filesystem::path write_file(const std::string& tag, std::size_t size, std::uint8_t value) {
-  const auto path = vlpground::test::temp_dir(tag) / "capture.labels";
+std::filesystem::path write_bytes(const std::filesystem::path& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary);
-  const std::string bytes(size, static_cast<char>(value));
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   return path;
+}
+
+std::filesystem::path write_file(const std::string& tag, std::size_t size, std::uint8_t value) {
+  return write_bytes(vlpground::test::temp_dir(tag) / "capture.labels",
+                     std::string(size, static_cast<char>(value)));
 }
 
 std::string message_of(const std::function<void()>& f) {
@@ -66,6 +69,50 @@ TEST_CASE("labels loader reports missing and malformed files clearly", "[evaluat
   const GroundTruth truth = GroundTruth::load(good);
   CHECK(truth.packets() == 3);
   CHECK(truth.at(2, 383) == TruthLabel::ambiguous);
+}
+
+TEST_CASE("heights beside the labels: int16 little-endian centimetres per slot", "[evaluation]") {
+  CHECK(vlpground::eval::heights_path_beside("dir/x.labels") ==
+        std::filesystem::path("dir/x.heights"));
+  const auto labels = write_file("eval-heights", 384, 2);
+  CHECK_FALSE(GroundTruth::load_with_heights(labels).has_heights());  // no file: estimate
+  CHECK_FALSE(GroundTruth::load_with_heights(labels).height_above_terrain_m(0, 0).has_value());
+
+  std::string heights(2 * 384, '\0');
+  heights[2 * 7] = static_cast<char>(0x2C);  // slot 7: 0x012C = 300 cm
+  heights[2 * 7 + 1] = static_cast<char>(0x01);
+  heights[2 * 9] = static_cast<char>(0xFB);  // slot 9: 0xFFFB = -5 cm
+  heights[2 * 9 + 1] = static_cast<char>(0xFF);
+  write_bytes(vlpground::eval::heights_path_beside(labels), heights);
+  const GroundTruth truth = GroundTruth::load_with_heights(labels);
+  REQUIRE(truth.has_heights());
+  CHECK(truth.height_above_terrain_m(0, 7).value() == Approx(3.0f));
+  CHECK(truth.height_above_terrain_m(0, 9).value() == Approx(-0.05f));
+  CHECK(truth.height_above_terrain_m(0, 8).value() == Approx(0.0f));
+  CHECK_FALSE(truth.height_above_terrain_m(1, 0).has_value());  // past the end
+  CHECK(truth.at(0, 7) == TruthLabel::obstacle);
+}
+
+TEST_CASE("a heights file that does not match the labels is refused clearly", "[evaluation]") {
+  const auto labels = write_file("eval-heights-size", 2 * 384, 1);
+  const auto heights = vlpground::eval::heights_path_beside(labels);
+  for (const std::size_t size : {std::size_t{384}, std::size_t{4 * 384 - 1}, std::size_t{0}}) {
+    write_bytes(heights, std::string(size, '\0'));
+    INFO(size << " bytes");
+    CHECK_THROWS_AS(GroundTruth::load_with_heights(labels), std::invalid_argument);
+    const std::string message = message_of([&] { (void)GroundTruth::load(labels, heights); });
+    CHECK(message.find("capture.heights") != std::string::npos);
+    CHECK(message.find("expected 1536") != std::string::npos);
+  }
+  write_bytes(heights, std::string(4 * 384, '\0'));
+  CHECK(GroundTruth::load_with_heights(labels).has_heights());
+
+  std::filesystem::remove(heights);
+  CHECK_THROWS_AS(GroundTruth::load(labels, heights), std::runtime_error);  // named, missing
+  CHECK(message_of([&] { (void)GroundTruth::load(labels, heights); }).find("capture.heights") !=
+        std::string::npos);
+  CHECK_THROWS_AS(GroundTruth(std::vector<std::uint8_t>(384, 1), std::vector<std::int16_t>(383)),
+                  std::invalid_argument);
 }
 
 TEST_CASE("slot mapping: single return uses two sequences per block", "[evaluation]") {

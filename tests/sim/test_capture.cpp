@@ -1,5 +1,6 @@
-// write_capture: pcap framing, checksums, labels alignment and the json description.
+// write_capture: pcap framing, checksums, labels and heights alignment and the json description.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
@@ -22,6 +23,9 @@ std::uint32_t le32(const std::uint8_t* p) {
          (std::uint32_t{p[3]} << 24);
 }
 unsigned be16(const std::uint8_t* p) { return (unsigned{p[0]} << 8) | p[1]; }
+std::int16_t le16s(const std::uint8_t* p) {
+  return static_cast<std::int16_t>(static_cast<std::uint16_t>(p[0] | (unsigned{p[1]} << 8)));
+}
 // RFC 1071 sum, folded: 0xFFFF over a block including its correct checksum.
 unsigned ones_sum(const std::uint8_t* p, std::size_t n, unsigned sum = 0) {
   for (std::size_t i = 0; i + 1 < n; i += 2) sum += be16(p + i);
@@ -96,4 +100,54 @@ TEST_CASE("capture files: pcap records, checksums, labels and json agree", "[sim
   CHECK(j.at("sensor_height_m").get<double>() == sim.sensor_height_m());
   CHECK(j.at("mount_roll_pitch_deg").size() == 2);
   CHECK(j.at("objects") == sim.scene().obstacles().size());
+}
+
+TEST_CASE("heights: centimetres rounded down, so they agree with the labels' 0.15 m",
+          "[sim][capture]") {
+  CHECK(height_above_terrain_cm(0.15) == 15);
+  CHECK(height_above_terrain_cm(0.1499) == 14);
+  CHECK(height_above_terrain_cm(0.509) == 50);
+  CHECK(height_above_terrain_cm(-0.004) == -1);
+  CHECK(height_above_terrain_cm(1e6) == 32767);  // saturated
+  CHECK(height_above_terrain_cm(-1e6) == -32768);
+}
+
+TEST_CASE("capture files: the heights file agrees with the labels", "[sim][capture]") {
+  SimConfig c;
+  c.scene = SceneKind::bank;  // bushes on a steep face: obstacles of every height
+  c.seed = 2;
+  c.frames = 1;
+  const Simulator sim(c);
+  const auto stem = test::temp_dir("sim_heights") / "bank";
+  const CaptureSummary summary = write_capture(sim, stem);
+  const auto labels = slurp(stem.string() + ".labels");
+  const auto heights = slurp(stem.string() + ".heights");
+  REQUIRE(labels.size() == summary.data_packets * 384);
+  REQUIRE(heights.size() == 2 * labels.size());
+
+  auto packet = std::make_unique<SimulatedPacket>();
+  std::uint64_t counts[4] = {0, 0, 0, 0};
+  int nonzero_ground = 0, low_obstacle_out = 0, obstacle_out = 0, off_truth = 0;
+  for (std::uint64_t k = 0; k < summary.data_packets; ++k) {
+    sim.simulate_packet(k, *packet);
+    for (std::size_t slot = 0; slot < 384; ++slot) {
+      const std::size_t i = k * 384 + slot;
+      const std::int16_t cm = le16s(heights.data() + 2 * i);
+      const auto label = static_cast<Label>(labels[i]);
+      ++counts[labels[i]];
+      if (label == Label::none || label == Label::ground) nonzero_ground += cm != 0;
+      if (label == Label::obstacle) obstacle_out += cm < 15;
+      if (label == Label::low_obstacle) low_obstacle_out += cm >= 15;
+      if (label == Label::obstacle || label == Label::low_obstacle) {
+        off_truth += std::fabs(cm * 0.01 - packet->truth[slot].above_terrain_m) > 0.01;
+      }
+      if (cm != packet->heights_cm[slot]) ++off_truth;
+    }
+  }
+  CHECK(counts[2] > 100);
+  CHECK(counts[3] > 0);
+  CHECK(nonzero_ground == 0);
+  CHECK(obstacle_out == 0);
+  CHECK(low_obstacle_out == 0);
+  CHECK(off_truth == 0);
 }

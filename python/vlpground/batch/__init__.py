@@ -33,7 +33,8 @@ __all__ = ["label_captures", "evaluate_captures", "format_table", "read_npz", "F
 
 # Figures of each row of evaluate_captures, as `vlpground eval --json`.
 EVAL_FIELDS = ("capture", "method", "radius_m", "frames", "precision", "recall", "f1", "tp",
-               "fp", "fn", "tn", "detect_ms_total", "high_obstacle_as_ground_rate")
+               "fp", "fn", "tn", "detect_ms_total", "high_obstacle_as_ground_rate",
+               "high_obstacle_terrain")
 _COUNTS = ("frames", "tp", "fp", "fn", "tn", "high_obstacles", "high_obstacles_as_ground")
 
 
@@ -229,9 +230,16 @@ def _overall(rows: Sequence[dict], method: str, radius_m: float) -> dict:
                 detect_ms_total=sum(float(r.get("detect_ms_total", 0.0)) for r in ok),
                 high_obstacle_as_ground_rate=(total["high_obstacles_as_ground"] / high
                                               if high else 0.0),
+                high_obstacle_terrain=_overall_terrain(ok),
                 status="done" if len(ok) == len(rows) else
                 f"{len(rows) - len(ok)} of {len(rows)} failed",
                 error="")
+
+
+def _overall_terrain(rows: Sequence[dict]) -> str:
+    """How the terrain under the high obstacles of all rows was known: one way, or mixed."""
+    ways = {r.get("high_obstacle_terrain", "none") for r in rows} - {"none"}
+    return ways.pop() if len(ways) == 1 else ("mixed" if ways else "none")
 
 
 def format_table(rows: Sequence[dict], columns: Sequence[str]) -> str:

@@ -1,5 +1,6 @@
 // Accuracy evaluation of ground detection against per-return-slot ground truth (the
-// simulator's `.labels` files, format in ../shared/data/sim/README.md).
+// simulator's `.labels` files, format in ../shared/data/sim/README.md, and, when present, the
+// `.heights` beside them: each echo's exact height above the terrain, README "Data formats").
 //
 // Scoring rule (README + brief): returns within `radius_m` horizontally of the sensor whose
 // truth is ground (1) or obstacle (2); ground is the positive class. Ambiguous (3) returns are
@@ -13,8 +14,10 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "vlpground/detector/ground_detector.hpp"
@@ -28,22 +31,44 @@ enum class TruthLabel : std::uint8_t { none = 0, ground = 1, obstacle = 2, ambig
 
 inline constexpr int kSlotsPerPacket = 384;  // 12 blocks x 32 channels
 
-/// Ground truth of one capture: one byte per return slot of every data packet.
+/// X.labels -> X.heights: where the simulator writes each slot's height above the terrain
+/// beside its labels. The one place that rule lives; every front-end goes through
+/// GroundTruth::load_with_heights().
+std::filesystem::path heights_path_beside(const std::filesystem::path& labels_path);
+
+/// Ground truth of one capture: one byte per return slot of every data packet and, optionally,
+/// each slot's exact height above the terrain (int16 centimetres, same slot order; 0 for
+/// ground and empty slots).
 class GroundTruth {
  public:
   GroundTruth() = default;
   /// Throws std::invalid_argument when the size is not a multiple of 384 or a byte is > 3.
   explicit GroundTruth(std::vector<std::uint8_t> bytes);
+  /// Labels with heights: also throws std::invalid_argument when `heights_cm` does not hold
+  /// one value per label slot.
+  GroundTruth(std::vector<std::uint8_t> bytes, std::vector<std::int16_t> heights_cm);
   /// Throws std::runtime_error naming the file when it is missing or unreadable, and
   /// std::invalid_argument (with the file name) when its content is malformed.
   static GroundTruth load(const std::filesystem::path& path);
+  /// Labels and the heights file `heights_path` (2 bytes per label slot, little-endian int16
+  /// centimetres). Throws as load(), naming the heights file when it does not match.
+  static GroundTruth load(const std::filesystem::path& labels_path,
+                          const std::filesystem::path& heights_path);
+  /// What every front-end loads: the labels, with heights_path_beside(labels_path) when that
+  /// file exists (simulator captures), else labels only (the terrain is then estimated).
+  static GroundTruth load_with_heights(const std::filesystem::path& labels_path);
 
   [[nodiscard]] std::uint64_t packets() const { return bytes_.size() / kSlotsPerPacket; }
   /// Truth of slot `block * 32 + channel` of data packet `packet`; `none` past the end.
   [[nodiscard]] TruthLabel at(std::uint64_t packet, int slot) const;
+  /// Whether exact heights above the terrain came with the labels.
+  [[nodiscard]] bool has_heights() const { return !heights_cm_.empty(); }
+  /// Height of the slot's echo above the terrain (m); empty without heights or past the end.
+  [[nodiscard]] std::optional<float> height_above_terrain_m(std::uint64_t packet, int slot) const;
 
  private:
   std::vector<std::uint8_t> bytes_;
+  std::vector<std::int16_t> heights_cm_;  // empty, or one per label byte
 };
 
 /// Wire position of a frame cell: slot = block * 32 + channel within its data packet.
@@ -79,16 +104,29 @@ struct ScoreConfig {
   void validate() const;
 };
 
+/// How the terrain under the scored truth obstacles was known (Score::terrain_source).
+enum class TerrainSource : std::uint8_t {
+  none,       // no truth obstacle was scored
+  exact,      // every one by the capture's exact heights (STEM.heights)
+  estimated,  // every one by the estimate from the truth-ground returns
+  mixed,      // some each way (a sum over captures with and without heights)
+};
+/// "none", "exact", "estimated", "mixed".
+std::string_view to_string(TerrainSource source);
+
 struct Score {
   Confusion all;
   Confusion near_band, far_band;  // [0, band_split_m), [band_split_m, radius_m)
-  // Truth obstacles more than high_obstacle_m above the estimated terrain, and how many of
-  // them were labelled ground. Terrain height under an obstacle return = median z of the
+  // Truth obstacles more than high_obstacle_m above the terrain, and how many of them were
+  // labelled ground. The height above the terrain is the ground truth's exact one when it has
+  // heights; otherwise estimated: terrain height under an obstacle return = median z of the
   // truth-ground returns within terrain_radius_m horizontally (same frame); when there are
   // none, the z of the truth-ground return of the same angular sector nearest in range.
   std::uint64_t high_obstacles = 0;
   std::uint64_t high_obstacles_as_ground = 0;
-  std::uint64_t obstacles_without_terrain = 0;  // no truth ground in the sector either
+  std::uint64_t obstacles_exact_terrain = 0;      // judged by their exact height
+  std::uint64_t obstacles_estimated_terrain = 0;  // judged against the estimated terrain
+  std::uint64_t obstacles_without_terrain = 0;    // no heights, no truth ground in the sector
   // Alignment checks: a cell with a return whose slot says "none", and the reverse.
   std::uint64_t returns_without_truth = 0;
   std::uint64_t truth_without_return = 0;
@@ -96,6 +134,7 @@ struct Score {
   std::uint64_t frames = 0;
 
   [[nodiscard]] double high_obstacle_as_ground_rate() const;  // 0 when there are none
+  [[nodiscard]] TerrainSource terrain_source() const;
   Score& operator+=(const Score& o);
 };
 
@@ -116,11 +155,15 @@ class FrameScorer {
                Score& score);
   void index_ground();
   float terrain_height(const Point& p);
+  // Height of obstacle i above the terrain: exact when known, else estimated; NaN (counted
+  // in obstacles_without_terrain) when neither.
+  float obstacle_above_terrain_m(std::size_t i, Score& score);
 
   ScoreConfig config_;
   std::vector<Point> ground_;                           // truth-ground returns of the frame
   std::vector<Point> obstacles_;                        // truth-obstacle returns within the radius
   std::vector<std::uint8_t> obstacle_pred_;             // 1 = predicted ground
+  std::vector<float> obstacle_exact_above_m_;           // exact height, NaN when unknown
   std::vector<std::uint32_t> grid_start_, grid_items_;  // ground by horizontal grid cell
   std::vector<std::uint32_t> sector_start_, sector_items_;  // ground by angular sector
   std::vector<std::uint32_t> cursor_;                       // counting-sort write positions
@@ -147,8 +190,9 @@ struct CaptureScoreOptions {
 };
 
 /// Reads `pcap_path` with a CaptureReader, detects ground in every frame with `detector` and
-/// scores it against `labels_path`. Throws std::runtime_error for unreadable files and
-/// std::invalid_argument for a bad configuration or labels file.
+/// scores it against `labels_path` (with its heights file, GroundTruth::load_with_heights). Throws
+/// std::runtime_error for unreadable files and std::invalid_argument for a bad configuration or
+/// labels file.
 CaptureScore score_capture(const std::filesystem::path& pcap_path,
                            const std::filesystem::path& labels_path, const DetectorConfig& detector,
                            double radius_m = 40.0);

@@ -1,6 +1,7 @@
 // Writes a simulated capture: STEM.pcap (classic pcap, Ethernet/IPv4/UDP 2368 -> 2368 and
-// position packets 8308 -> 8308, checksums right), STEM.labels (384 bytes per data packet)
-// and STEM.json (how it was made).
+// position packets 8308 -> 8308, checksums right), STEM.labels (384 bytes per data packet),
+// STEM.heights (each slot's height above the terrain, int16 little-endian cm, same order) and
+// STEM.json (how it was made).
 //
 // Thread-safety: free functions; PcapWriter is single-threaded.
 #pragma once
@@ -51,7 +52,8 @@ struct CaptureSummary {
 /// mount_roll_pitch_deg, packets, objects (+ start time, noise, dropout, range).
 std::string describe_json(const Simulator& sim, std::uint64_t packets);
 
-/// Writes STEM.pcap, STEM.labels and STEM.json. Throws std::runtime_error on I/O errors.
+/// Writes STEM.pcap, STEM.labels, STEM.heights and STEM.json. Throws std::runtime_error on I/O
+/// errors.
 CaptureSummary write_capture(const Simulator& sim, const std::filesystem::path& stem);
 
 }  // namespace vlpground::sim

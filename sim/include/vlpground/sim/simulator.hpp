@@ -28,6 +28,11 @@ enum class Label : std::uint8_t { none = 0, ground = 1, obstacle = 2, low_obstac
 /// Obstacle points closer than this to the terrain are labelled low_obstacle.
 inline constexpr double kLowObstacleHeight_m = 0.15;
 
+/// An echo's height above the terrain under it in whole centimetres (the .heights format):
+/// rounded down, so an obstacle (>= 0.15 m) holds >= 15 and a low obstacle < 15; saturated
+/// to the int16 range.
+std::int16_t height_above_terrain_cm(double above_m);
+
 struct SimConfig {
   SceneKind scene = SceneKind::urban;
   std::uint64_t seed = 1;
@@ -60,6 +65,7 @@ struct SlotTruth {
   Vec3 sensor_point;         // the return in the sensor frame (x fwd, y left, z up, offset in z)
   Vec3 world_point;          // the hit point in the world frame
   Label label = Label::none;
+  double above_terrain_m = 0.0;  // height of the hit above the terrain under it; 0: ground
 };
 
 struct SimulatedPacket {
@@ -69,6 +75,9 @@ struct SimulatedPacket {
   DataPacketFields fields;
   std::array<std::uint8_t, 1206> bytes{};
   std::array<std::uint8_t, kSlotsPerPacket> labels{};  // slot = block * 32 + channel
+  // Height of each slot's echo above the terrain (cm, height_above_terrain_cm): 0 for
+  // ground returns and empty slots. Written beside the labels as STEM.heights.
+  std::array<std::int16_t, kSlotsPerPacket> heights_cm{};
   std::array<SlotTruth, kSlotsPerPacket> truth{};
 };
 
