@@ -53,8 +53,9 @@ make_half() {
   local dir=$1 first=$2
   mkdir -p "${dir}"
   captures "${first}" | while read -r stem args; do
+    # A capture made before the simulator wrote heights (STEM.heights) is made again.
     # shellcheck disable=SC2086
-    [[ -f "${dir}/${stem}.labels" ]] || "${vlpground}" sim ${args} --frames "${frames}" --out "${dir}/${stem}" > /dev/null
+    [[ -f "${dir}/${stem}.labels" && -f "${dir}/${stem}.heights" ]] || "${vlpground}" sim ${args} --frames "${frames}" --out "${dir}/${stem}" > /dev/null
   done
 }
 

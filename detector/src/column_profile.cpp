@@ -34,6 +34,7 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   // a fence line) must not vouch for a single rise below it.
   remove_silhouettes(cloud, ground);
   for (ColumnPoint& q : points_) q.ground = ground[q.index];
+  drop_refuted_rises(cloud);
   for (Index c = 0; c < columns; ++c) {
     drop_raised_groups(column_start_[c], column_start_[c + 1]);
     check_single_rises(column_start_[c], column_start_[c + 1]);
@@ -469,6 +470,76 @@ bool ColumnProfiles::is_ground_neighbour(Index k) const {
 bool ColumnProfiles::raised_over_level2(Index k, float by) const {
   const float h = points_[k].level2_h;
   return std::isfinite(h) && h > by;
+}
+
+// Whether a ground return of another column at most refute_lateral_m to the side of column
+// c's vertical plane, not raised over the level-2 surface, lies between ground returns a and
+// b of column c (in distance) more than single_rise_m under the profile joining them, less
+// the rise the steepest ground allows over the lateral distance. Columns are scanned outwards
+// until one lies farther to the side than refute_lateral_m at a's distance.
+bool ColumnProfiles::rise_refuted(const Cloud& cloud, Index c, Index a, Index b) const {
+  constexpr Index kMaxColumns = 64;  // empty columns (sky, drop-outs) scanned past at most
+  const ColumnPoint &pa = points_[a], &pb = points_[b];
+  const float ux = cloud.x[pa.index] / pa.r, uy = cloud.y[pa.index] / pa.r;
+  const auto lateral = [&](const ColumnPoint& q) {
+    return std::abs(ux * cloud.y[q.index] - uy * cloud.x[q.index]);
+  };
+  // 1: column n refutes the rise; -1: it lies too far to the side (stop); 0: go on.
+  const auto check = [&](Index n) {
+    const Index first = column_start_[n], end = column_start_[n + 1];
+    if (first < end && lateral(points_[first]) * pa.r > p_.refute_lateral_m * points_[first].r) {
+      return -1;
+    }
+    for (Index j = first; j < end; ++j) {
+      const ColumnPoint& q = points_[j];
+      if (q.r <= pa.r || q.r >= pb.r || q.ground == 0) continue;
+      if (!(std::abs(q.level2_h) <= 0.5f * p_.single_rise_m)) continue;
+      const float side = lateral(q);
+      if (side > p_.refute_lateral_m) continue;
+      const float profile = pa.z + (q.r - pa.r) / (pb.r - pa.r) * (pb.z - pa.z);
+      if (profile - p_.max_gradient * side - q.z > p_.single_rise_m) return 1;
+    }
+    return 0;
+  };
+  const Index columns = column_start_.size() - 1;
+  for (Index step = 1; step <= kMaxColumns && step <= c; ++step) {
+    const int r = check(c - step);
+    if (r != 0) {
+      if (r > 0) return true;
+      break;
+    }
+  }
+  for (Index step = 1; step <= kMaxColumns && c + step < columns; ++step) {
+    const int r = check(c + step);
+    if (r != 0) return r > 0;
+  }
+  return false;
+}
+
+// A column's profile rising more than single_rise_m from one ground return to the next where
+// a neighbouring column saw the ground between them that much lower (rise_refuted): the
+// terrain is one height field, and within refute_lateral_m it cannot stand that much higher
+// in one column than in the next. The higher return is an object: a fence line the walk took
+// past a lower fence, the ground between the two seen through the first one's gaps
+// (fences_s103). Decided on the walk's labels, then applied, so the order of the columns
+// does not matter.
+void ColumnProfiles::drop_refuted_rises(const Cloud& cloud) {
+  const Index columns = column_start_.size() - 1;
+  refuted_.assign(points_.size(), 0);
+  for (Index c = 0; c < columns; ++c) {
+    Index last = points_.size();  // the column's last ground return
+    for (Index k = column_start_[c]; k < column_start_[c + 1]; ++k) {
+      if (!is_ground_neighbour(k)) continue;
+      if (last < points_.size() && points_[k].z - points_[last].z > p_.single_rise_m &&
+          rise_refuted(cloud, c, last, k)) {
+        refuted_[k] = 1;
+      }
+      last = k;
+    }
+  }
+  for (Index k = 0; k < points_.size(); ++k) {
+    if (refuted_[k] != 0) points_[k].ground = 0;
+  }
 }
 
 // A group of consecutive raised ground returns of a column (over half single_rise_m above

@@ -75,6 +75,10 @@ struct ProfileParams {
   // over the ground before and after them, are an object the walk climbed (a car roof, a
   // fence top seen by two rings), however they vouch for each other.
   float bump_group_max_m = 4.f;
+  // A rise of the profile over single_rise_m between two ground returns of a column is
+  // refuted by a ground return of a column at most this far to the side, between the two
+  // in distance and more than single_rise_m under the profile (drop_refuted_rises).
+  float refute_lateral_m = 0.4f;
   // Past an obstacle a return this close to a level-1 plane that explains its cell is ground
   // (the plane is trusted where it explains the ground; the cells' own fits are not).
   float plane_band_m = 0.1f;
@@ -145,6 +149,9 @@ class ColumnProfiles {
   [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool is_ground_neighbour(std::size_t k) const;
   [[nodiscard]] bool raised_over_level2(std::size_t k, float by) const;
+  [[nodiscard]] bool rise_refuted(const Cloud& cloud, std::size_t c, std::size_t a,
+                                  std::size_t b) const;
+  void drop_refuted_rises(const Cloud& cloud);
   void drop_raised_groups(std::size_t begin, std::size_t end);
   void check_single_rises(std::size_t begin, std::size_t end);
   void find_ring_runs(const Cloud& cloud);
@@ -170,6 +177,7 @@ class ColumnProfiles {
   std::vector<ColumnPoint> points_;
   std::vector<std::uint8_t> shadowed_;  // ColumnPoint::shadowed by cloud point
   std::vector<std::uint32_t> road_beyond_;  // ColumnPoint::road_beyond by cloud point
+  std::vector<std::uint8_t> refuted_;        // by column point (drop_refuted_rises)
   std::vector<std::uint8_t> stands_out_;     // in a run standing out (remove_silhouettes)
   // A run [a, b] of returns continuous along a ring whose returns are [first, last).
   struct RingRun {

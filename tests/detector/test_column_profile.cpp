@@ -641,3 +641,47 @@ TEST_CASE("column profiles: a group of raised returns standing out of the ground
   // Longer than bump_group_max_m: a rise of the terrain, left to rule 4.
   CHECK(roof(0.65f, 6.f) == std::vector<std::uint8_t>{1, 1, 1, 1, 1});
 }
+
+TEST_CASE("column profiles: a rise the neighbouring columns saw the ground under is refuted",
+          "[detector][profiles]") {
+  // Sim fences_s103: ring 0 on the road 8 m out, ring 1 on a low fence 10 m out (0.2 m up),
+  // ring 2 on the top of a second fence 13 m out (0.7 m up); the walk takes both fence lines
+  // as a gentle rise and the level-2 cells climbed with them (0.05 m under each). Where the
+  // first fence has a gap (`gap_column`), ring 1 passes it and meets the road 12 m out.
+  // Columns 1 degree apart: 0.21 m at 12 m, so only the gap's two neighbours lie within
+  // refute_lateral_m (0.4 m) of it.
+  const auto ring2_ground = [](int gap_column) {
+    Scan s;
+    std::vector<float> level2;
+    constexpr int kWide = 60;  // ring lines longer than silhouette_max_m
+    for (int ring = 0; ring < 3; ++ring) {
+      for (int col = 0; col < kWide; ++col) {
+        if (ring == 0) {
+          add(s, 0, col, 8.f, 0.f, 1);
+          level2.push_back(0.f);
+        } else if (ring == 1 && col == gap_column) {
+          add(s, 1, col, 12.f, 0.f, 1);
+          level2.push_back(0.f);
+        } else {
+          add(s, ring, col, ring == 1 ? 10.f : 13.f, ring == 1 ? 0.2f : 0.7f, 2);
+          level2.push_back(0.05f);
+        }
+      }
+    }
+    const auto ground = label(s, level2).ground;
+    std::vector<int> columns;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      if (s.cloud.ring[i] == 2 && ground[i] != 0) columns.push_back(s.cloud.column[i]);
+    }
+    return columns;
+  };
+  std::vector<int> all(60);
+  for (int col = 0; col < 60; ++col) all[static_cast<std::size_t>(col)] = col;
+  // No gap: nothing in the data says the terrain did not rise.
+  CHECK(ring2_ground(-1) == all);
+  // The road seen through the gap 12 m out: the fence top over the gap (ring 2 there climbs
+  // 0.7 m within a metre of that road: steep, refused by the walk) and beside it are objects.
+  std::vector<int> beside = all;
+  beside.erase(beside.begin() + 29, beside.begin() + 32);
+  CHECK(ring2_ground(30) == beside);
+}
