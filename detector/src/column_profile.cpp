@@ -399,6 +399,12 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       // return: a hill's shoulder, rising on at the measured gradient.
       if (step >= p_.shoulder_gradient && step >= gradient - p_.gradient_step) {
         next_gradient = step;
+        // ... but not under an overhang: the next ring of the column met something nearer
+        // and higher (a tree crown on a bank's top, met from below).
+        if (k + 1 < end && points_[k + 1].ring != q.ring && points_[k + 1].r < r - p_.overhang_m &&
+            points_[k + 1].z > z) {
+          accept = false;
+        }
       } else {
         next_gradient_r = r;
       }

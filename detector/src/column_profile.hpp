@@ -51,6 +51,9 @@ struct ProfileParams {
   // ... level, unless it still rises at least this from the last ground return (and the
   // gradient bends no more than gradient_step): a hill's shoulder keeps that gradient.
   float shoulder_gradient = 0.1f;
+  // ... and is not under an overhang: the column's next (higher) ring met something more
+  // than this nearer and higher (a tree crown on a bank's top met from below).
+  float overhang_m = 1.f;
   float min_advance_m = 0.3f;  // nearer than this (horizontally) to the last ground return
   float anchor_slack_m = 0.05f;  // ... a ground return moves the profile's end at most
                                  // max_gradient x advance + this up or down

@@ -685,3 +685,24 @@ TEST_CASE("column profiles: a rise the neighbouring columns saw the ground under
   beside.erase(beside.begin() + 29, beside.begin() + 32);
   CHECK(ring2_ground(30) == beside);
 }
+
+TEST_CASE("column profiles: a shoulder under an overhang is the underside of an object",
+          "[detector][profiles]") {
+  // Sim bank_s1: rings 0-3 climb a bank face at 0.35; ring 4 meets, 8 m past ring 3, a
+  // tree crown on the bank's top under the profile extrapolated up the face, still rising
+  // from ring 3 (a hill's shoulder, rule 1); ring 5 meets the crown 2.5 m nearer and higher:
+  // met from below, so ring 4's return is no ground. The level-2 surface follows the face.
+  enum Above { kSky, kCrownNearer, kFarther };
+  const auto ring4 = [](Above above) {
+    Scan s;
+    const float r[] = {10.f, 11.4f, 12.4f, 13.4f, 21.5f};
+    const float z[] = {0.f, 0.35f, 0.7f, 1.05f, 3.f};
+    for (int ring = 0; ring < 5; ++ring) add(s, ring, 0, r[ring], z[ring], ring < 4 ? 1 : 2);
+    if (above == kCrownNearer) add(s, 5, 0, 19.f, 3.6f, 2);
+    if (above == kFarther) add(s, 5, 0, 30.f, 5.f, 1);
+    return label(s, std::vector<float>(s.cloud.size(), 0.f)).ground[4];
+  };
+  CHECK(ring4(kSky) == 1);  // nothing says the shoulder is not the top's ground
+  CHECK(ring4(kFarther) == 1);
+  CHECK(ring4(kCrownNearer) == 0);
+}
