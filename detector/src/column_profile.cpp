@@ -508,18 +508,14 @@ bool ColumnProfiles::rise_refuted(const Cloud& cloud, Index c, Index a, Index b)
     return 0;
   };
   const Index columns = column_start_.size() - 1;
-  for (Index step = 1; step <= kMaxColumns && step <= c; ++step) {
-    const int r = check(c - step);
-    if (r != 0) {
-      if (r > 0) return true;
-      break;
+  const auto refuted_on_side = [&](bool left) {
+    for (Index step = 1; step <= kMaxColumns && (left ? step <= c : c + step < columns); ++step) {
+      const int verdict = check(left ? c - step : c + step);
+      if (verdict != 0) return verdict > 0;
     }
-  }
-  for (Index step = 1; step <= kMaxColumns && c + step < columns; ++step) {
-    const int r = check(c + step);
-    if (r != 0) return r > 0;
-  }
-  return false;
+    return false;
+  };
+  return refuted_on_side(true) || refuted_on_side(false);
 }
 
 // A column's profile rising more than single_rise_m from one ground return to the next where
@@ -554,28 +550,29 @@ void ColumnProfiles::drop_refuted_rises(const Cloud& cloud) {
 // car roof, a fence top seen by two rings): its members vouch for each other under rule 4,
 // so the group is dropped whole.
 void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
-  auto neighbour = [&](Index k) { return is_ground_neighbour(k); };
   auto raised = [&](Index k) { return raised_over_level2(k, 0.5f * p_.single_rise_m); };
   float before_z = start_z_;
   Index k = begin;
   while (k < end) {
-    if (!neighbour(k) || !raised(k)) {
-      if (neighbour(k)) before_z = points_[k].z;
+    if (!is_ground_neighbour(k) || !raised(k)) {
+      if (is_ground_neighbour(k)) before_z = points_[k].z;
       ++k;
       continue;
     }
     Index last = k, after = k + 1;
     for (; after < end; ++after) {
-      if (!neighbour(after)) continue;
+      if (!is_ground_neighbour(after)) continue;
       if (!raised(after)) break;
       last = after;
     }
     if (after < end && points_[last].r - points_[k].r <= p_.bump_group_max_m) {
       const float floor_z = std::max(before_z, points_[after].z) + p_.drop_m;
       bool stands = true;
-      for (Index g = k; g <= last && stands; ++g) stands = !neighbour(g) || points_[g].z > floor_z;
       for (Index g = k; g <= last && stands; ++g) {
-        if (neighbour(g)) points_[g].ground = 0;
+        stands = !is_ground_neighbour(g) || points_[g].z > floor_z;
+      }
+      for (Index g = k; g <= last && stands; ++g) {
+        if (is_ground_neighbour(g)) points_[g].ground = 0;
       }
     }
     k = after;
@@ -587,15 +584,13 @@ void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
 // column (the ground return before or after it along the profile; a return on a steep
 // surface taken for the foot of a wall does not count).
 void ColumnProfiles::check_single_rises(Index begin, Index end) {
-  auto raised = [&](Index k, float by) { return raised_over_level2(k, by); };
-  auto neighbour = [&](Index k) { return is_ground_neighbour(k); };
   Index previous = end;  // previous ground return of the column
   for (Index k = begin; k < end; ++k) {
-    if (!neighbour(k)) continue;
+    if (!is_ground_neighbour(k)) continue;
     const float rise = points_[k].bend > p_.kink_gradient ? p_.kink_rise_m : p_.single_rise_m;
-    if (raised(k, rise)) {
+    if (raised_over_level2(k, rise)) {
       Index next = k + 1;
-      while (next < end && !neighbour(next)) ++next;
+      while (next < end && !is_ground_neighbour(next)) ++next;
       const bool both = previous < end && next < end;
       // Height over the chord joining the ground returns before and after it.
       const float over_chord = both ? [&] {
@@ -611,7 +606,8 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
       const bool bump = both && over_chord > p_.drop_m &&
                         h - points_[previous].level2_h > p_.single_rise_m &&
                         h - points_[next].level2_h > p_.single_rise_m;
-      const bool before = !bump && previous < end && raised(previous, 0.5f * p_.single_rise_m);
+      const bool before =
+          !bump && previous < end && raised_over_level2(previous, 0.5f * p_.single_rise_m);
       // A return that kinked the profile up is vouched for only by a raised return close
       // beyond it (the same rise going on), not by one far beyond (a ring-7 return 40 m past
       // a fence line, where the level-2 surface is extrapolated), unless it resumed as ground
@@ -621,7 +617,7 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
                                  (next < end && points_[next].r - points_[k].r <=
                                                     p_.kink_vouch_span * points_[k].r);
       const bool after = !bump && next < end && vouches_after &&
-                         raised(next, 0.5f * p_.single_rise_m);
+                         raised_over_level2(next, 0.5f * p_.single_rise_m);
       // Level with the ground return before it, or under it, the level-2 surface is what
       // is off (a levee's shoulder over a cell fitted to the fields below). Before it the
       // column has only the start: its first return must be level with the ground under the

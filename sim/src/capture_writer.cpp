@@ -22,6 +22,11 @@ void put16be(std::uint8_t* p, std::uint32_t v) {
   p[1] = static_cast<std::uint8_t>(v & 0xFF);
 }
 
+void put16le(std::uint8_t* p, std::uint16_t v) {
+  p[0] = static_cast<std::uint8_t>(v & 0xFF);
+  p[1] = static_cast<std::uint8_t>(v >> 8);
+}
+
 void put32le(std::uint8_t* p, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) p[i] = static_cast<std::uint8_t>((v >> (8 * i)) & 0xFF);
 }
@@ -31,9 +36,7 @@ std::array<std::uint8_t, 2 * kSlotsPerPacket> heights_le(
     const std::array<std::int16_t, kSlotsPerPacket>& heights_cm) {
   std::array<std::uint8_t, 2 * kSlotsPerPacket> out{};
   for (std::size_t i = 0; i < heights_cm.size(); ++i) {
-    const auto v = static_cast<std::uint16_t>(heights_cm[i]);
-    out[2 * i] = static_cast<std::uint8_t>(v & 0xFF);
-    out[2 * i + 1] = static_cast<std::uint8_t>(v >> 8);
+    put16le(out.data() + 2 * i, static_cast<std::uint16_t>(heights_cm[i]));
   }
   return out;
 }
