@@ -1,6 +1,7 @@
 #include "labelling.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "vlpground_internal/vector_clones.hpp"
 
@@ -43,7 +44,8 @@ inline int segment_at(float x, float y, float cx, float cy) {
   return static_cast<int>(x >= cx) + 2 * static_cast<int>(y >= cy);
 }
 
-inline float absolute(float v) { return v < 0 ? -v : v; }
+// |v| as one bitwise and (v < 0 ? -v : v differs on -0 only, which compares the same).
+inline float absolute(float v) { return std::fabs(v); }
 
 // Bitwise & on bools throughout: no short circuit, so no branch in the loops.
 VLPGROUND_VECTOR_CLONES

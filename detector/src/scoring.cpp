@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 #include "tangents.hpp"
 #include "vlpground_internal/vector_clones.hpp"
@@ -18,7 +19,7 @@ namespace {
 
 using Index = std::size_t;
 
-// Hypotheses per block: two AVX2 vectors of 8 lanes.
+// Hypotheses per block: one AVX2 vector of 8 lanes.
 constexpr Index kBlock = 8;
 
 struct Kernel {
@@ -30,7 +31,9 @@ struct Kernel {
 };
 
 // Eq. 3 (line 1: |n.x + d| < eps, line 2: |n.t| < sin(delta)) and the below penalty, the
-// same float operations as score_reference.
+// same float operations as score_reference. Inliers and returns under the plane are counted
+// apart and weighed once per block (integers: exact in any order); |v| is fabs, which only
+// differs from v < 0 ? -v : v on -0, and compares the same.
 VLPGROUND_VECTOR_CLONES
 void score_all(const Kernel q, const ScoreParams p, std::int32_t* __restrict scores) {
   for (Index s = 0; s < q.slots; ++s) {
@@ -41,20 +44,18 @@ void score_all(const Kernel q, const ScoreParams p, std::int32_t* __restrict sco
       const float* __restrict ny = q.ny + m0;
       const float* __restrict nz = q.nz + m0;
       const float* __restrict d = q.d + m0;
-      std::array<std::int32_t, kBlock> acc{};
+      std::array<std::int32_t, kBlock> inliers{}, under{};
       for (Index k = begin; k < end; ++k) {
         const float x = q.x[k], y = q.y[k], z = q.z[k], tx = q.tx[k], ty = q.ty[k], tz = q.tz[k];
         for (Index j = 0; j < kBlock; ++j) {
           const float dist = nx[j] * x + ny[j] * y + nz[j] * z + d[j];
           const float dot = nx[j] * tx + ny[j] * ty + nz[j] * tz;
-          const float abs_dist = dist < 0 ? -dist : dist;
-          const float abs_dot = dot < 0 ? -dot : dot;
-          const std::int32_t inlier = (abs_dist < p.eps) & (abs_dot < p.sin_delta);
-          acc[j] += inlier - p.penalty * static_cast<std::int32_t>(dist < p.below);
+          inliers[j] += (std::fabs(dist) < p.eps) & (std::fabs(dot) < p.sin_delta);
+          under[j] += dist < p.below;
         }
       }
       const Index lanes = std::min(kBlock, q.m_count - m0);
-      for (Index j = 0; j < lanes; ++j) row[m0 + j] = acc[j];
+      for (Index j = 0; j < lanes; ++j) row[m0 + j] = inliers[j] - p.penalty * under[j];
     }
   }
 }
