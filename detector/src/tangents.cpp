@@ -16,18 +16,17 @@ using Index = std::size_t;
 // Cloud::last_rows, whose entries may be strongest twins (all of one layer, runs by ring).
 struct DirectRows {
   const Cloud& c;
-  Index size;
   [[nodiscard]] Index at(Index p) const { return p; }
-  [[nodiscard]] bool same_row(Index a, Index b) const {
-    return c.layer[a] == c.layer[b] && c.ring[a] == c.ring[b];
-  }
 };
 
 struct LastRows {
   const Cloud& c;
-  Index size;
   [[nodiscard]] Index at(Index p) const { return c.last_rows[p]; }
-  [[nodiscard]] bool same_row(Index a, Index b) const { return c.ring[at(a)] == c.ring[at(b)]; }
+};
+
+// One row of the range image: positions [begin, end).
+struct RowSpan {
+  Index begin, end;
 };
 
 float chord_sq(const Cloud& c, Index a, Index b) {
@@ -49,28 +48,26 @@ inline std::uint16_t fast_step(float range_xy, const TangentParams& p) {
                  static_cast<float>(p.max_span_columns)));
 }
 
-// Walks from position i in direction `step` (+1/-1) along its row, over invalid cells
+// Walks from position i of `row` in direction `step` (+1/-1) along it, over invalid cells
 // (absent from the cloud) but never across a range discontinuity; stops at the first
 // neighbour at least target_chord_m away. Returns i when there is no usable neighbour.
 // k = fast_step of i: first try the neighbour expected at the target chord, taken when it
-// is in the same row and continuous with i.
+// is in the row and continuous with i.
 template <class Rows>
-Index walk(const Rows& rows, const TangentParams& p, Index i, int step, Index k) {
+Index walk(const Rows& rows, const TangentParams& p, RowSpan row, Index i, int step, Index k) {
   const Cloud& c = rows.c;
   const Index pi = rows.at(i);
-  if (k > 0 && (step > 0 ? i + k < rows.size : k <= i)) {
+  const Index room = step > 0 ? row.end - 1 - i : i - row.begin;  // positions left in the row
+  if (k > 0 && k <= room) {
     const Index j = step > 0 ? i + k : i - k, pj = rows.at(j);
-    if (rows.same_row(i, j) &&
-        std::abs(int{c.column[pj]} - int{c.column[pi]}) <= p.max_span_columns &&
+    if (std::abs(int{c.column[pj]} - int{c.column[pi]}) <= p.max_span_columns &&
         continuous(c, p, pi, pj))
       return j;
   }
   Index best = i, prev = i;
   const float target_sq = p.target_chord_m * p.target_chord_m;
-  for (Index s = 1;; ++s) {
-    if (step < 0 && s > i) break;
+  for (Index s = 1; s <= room; ++s) {
     const Index j = step > 0 ? i + s : i - s;
-    if (j >= rows.size || !rows.same_row(i, j)) break;
     const Index pj = rows.at(j);
     const int span = std::abs(int{c.column[pj]} - int{c.column[pi]});
     if (span > p.max_span_columns || !continuous(c, p, rows.at(prev), pj)) break;
@@ -84,9 +81,11 @@ Index walk(const Rows& rows, const TangentParams& p, Index i, int step, Index k)
 // out.x/y/z of its point, valid = 1 when there are two distinct neighbours; normalise()
 // makes it the tangent.
 template <class Rows>
-void chord_at(const Rows& rows, const TangentParams& params, Index i, Index k, Tangents& out) {
+void chord_at(const Rows& rows, const TangentParams& params, RowSpan row, Index i, Index k,
+              Tangents& out) {
   const Cloud& cloud = rows.c;
-  const Index a = rows.at(walk(rows, params, i, -1, k)), b = rows.at(walk(rows, params, i, +1, k));
+  const Index a = rows.at(walk(rows, params, row, i, -1, k));
+  const Index b = rows.at(walk(rows, params, row, i, +1, k));
   const Index point = rows.at(i);
   out.x[point] = cloud.x[b] - cloud.x[a];
   out.y[point] = cloud.y[b] - cloud.y[a];
@@ -129,16 +128,25 @@ void compute_tangents(const Cloud& cloud, const TangentParams& params, Tangents&
   out.valid.resize(n);
   out.step.resize(n);
   fast_steps(cloud.range_xy.data(), n, params, out.step.data());
-  const DirectRows direct{cloud, n};
+  const DirectRows direct{cloud};
   const Index own_rows = cloud.deduplicated ? cloud.last_begin : n;
-  for (Index i = 0; i < own_rows; ++i) chord_at(direct, params, i, out.step[i], out);
+  const Index layer_end = strongest_end(cloud);
+  for (const RowSpan layer : {RowSpan{0, layer_end}, RowSpan{layer_end, own_rows}}) {
+    const RingRuns runs = point_ring_runs(cloud, layer.begin, layer.end);
+    for (Index r = 0; r + 1 < runs.size(); ++r) {
+      const RowSpan row{runs[r], runs[r + 1]};
+      for (Index i = row.begin; i < row.end; ++i) chord_at(direct, params, row, i, out.step[i], out);
+    }
+  }
   if (cloud.deduplicated) {
     // A distinct last return: its row as the sensor saw it, twins included.
-    const LastRows last{cloud, cloud.last_rows.size()};
+    const LastRows last{cloud};
     const RingRuns runs = last_row_runs(cloud);
     for (Index i = cloud.last_begin; i < n; ++i) {
       const Index p = last_row_position(cloud, runs, cloud.ring[i], cloud.column[i]);
-      chord_at(last, params, p, out.step[i], out);
+      const Index ring = cloud.ring[i];
+      const RowSpan row{runs[ring], runs[ring + 1]};
+      chord_at(last, params, row, p, out.step[i], out);
     }
   }
   normalise(n, params.min_chord_m, out.x.data(), out.y.data(), out.z.data(), out.valid.data());
