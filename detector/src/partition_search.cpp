@@ -55,7 +55,8 @@ SearchResult search_streaming(const SearchInput& in, std::vector<Acc>& scratch) 
   const int b = in.bins;
   const Index m_count = idx(in.hypotheses);
   // Layout: column totals I(c+1,B)-I(c,B) [B x M], column prefixes over rows < r [B x M],
-  // I(B,B), I(B,r), I(c,r), I(c,B) [M each].
+  // I(B,B), I(B,r), I(c,r), I(c,B) [M each]. Prefixes and I(B,r) grow by row r's scores
+  // after its centres.
   scratch.assign(idx(2 * b + 4) * m_count, 0);
   Acc* col_total = scratch.data();
   Acc* col_prefix = col_total + idx(b) * m_count;
@@ -81,11 +82,6 @@ SearchResult search_streaming(const SearchInput& in, std::vector<Acc>& scratch) 
   SearchResult result;
   std::array<bool, 4> ground{};
   for (int r = 0; r < b; ++r) {
-    std::fill_n(row_total, m_count, 0);
-    for (int c = 0; c < b; ++c) {
-      const Acc* p = col_prefix + idx(c) * m_count;
-      for (Index m = 0; m < m_count; ++m) row_total[m] = Acc(row_total[m] + p[m]);
-    }
     std::fill_n(acc, m_count, 0);
     std::fill_n(acc_bottom, m_count, 0);
     for (int c = 0; c < b; ++c) {
@@ -128,7 +124,10 @@ SearchResult search_streaming(const SearchInput& in, std::vector<Acc>& scratch) 
       if (slot < 0) continue;
       const std::int32_t* s = in.slot_scores + idx(slot) * m_count;
       Acc* p = col_prefix + idx(c) * m_count;
-      for (Index m = 0; m < m_count; ++m) p[m] = Acc(p[m] + s[m]);
+      for (Index m = 0; m < m_count; ++m) {
+        p[m] = Acc(p[m] + s[m]);
+        row_total[m] = Acc(row_total[m] + s[m]);
+      }
     }
   }
   return result;
