@@ -16,23 +16,19 @@ std::uint8_t rises_steeply(const Cloud& cloud, Index a, Index b) {
 }
 
 // Pairs the returns of the same column in adjacent rings (runs sorted by column) and marks
-// both when the surface between them rises more than 45 degrees.
+// both when the surface between them rises more than 45 degrees. Branchless merge: the
+// rise of an unpaired a, b is computed too and dropped.
 void mark_rows(const Cloud& cloud, const RingRuns& begin, std::vector<std::uint8_t>& steep) {
   for (Index ring = 0; ring + 1 < static_cast<Index>(kLasers); ++ring) {
     Index a = begin[ring], b = begin[ring + 1];
     const Index a_end = begin[ring + 1], b_end = begin[ring + 2];
     while (a < a_end && b < b_end) {
-      if (cloud.column[a] < cloud.column[b]) {
-        ++a;
-      } else if (cloud.column[b] < cloud.column[a]) {
-        ++b;
-      } else {
-        const std::uint8_t rises = rises_steeply(cloud, a, b);
-        steep[a] |= rises;
-        steep[b] |= rises;
-        ++a;
-        ++b;
-      }
+      const std::uint16_t col_a = cloud.column[a], col_b = cloud.column[b];
+      const auto rises = static_cast<std::uint8_t>((col_a == col_b) & rises_steeply(cloud, a, b));
+      steep[a] |= rises;
+      steep[b] |= rises;
+      a += static_cast<Index>(col_a <= col_b);
+      b += static_cast<Index>(col_b <= col_a);
     }
   }
 }
