@@ -19,13 +19,6 @@ void PlaneSet::push(const Plane& p) {
   d.push_back(p.d);
 }
 
-std::uint64_t Rng::next() {
-  std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
 bool plane_from_points(const float* a, const float* b, const float* c, Plane& out,
                        float min_area_m2) {
   const float u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};

@@ -22,7 +22,12 @@ struct PlaneSet {
 class Rng {
  public:
   explicit Rng(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next();
+  std::uint64_t next() {
+    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
   /// Uniform-ish integer in [0, n) (modulo bias is negligible for n << 2^64).
   std::size_t below(std::size_t n) { return static_cast<std::size_t>(next() % n); }
 
