@@ -199,8 +199,9 @@ RingRuns point_ring_runs(const Cloud& cloud, Index first, Index last) {
 
 Index strongest_end(const Cloud& cloud) {
   if (cloud.deduplicated) return cloud.last_begin;
-  return static_cast<Index>(std::find_if(cloud.layer.begin(), cloud.layer.end(),
-                                         [](std::uint8_t l) { return l != 0; }) -
+  // Layers ascend through the cloud: a binary search for the first last-layer point.
+  return static_cast<Index>(std::partition_point(cloud.layer.begin(), cloud.layer.end(),
+                                                 [](std::uint8_t l) { return l == 0; }) -
                             cloud.layer.begin());
 }
 
