@@ -79,20 +79,6 @@ void sample_hypotheses(const LowPoints& low, const SamplingParams& sp, PlaneSet&
   }
 }
 
-void PlaneFit::add(float x, float y, float z, int weight) {
-  const double p[3] = {x, y, z};
-  for (int copy = 0; copy < weight; ++copy) {
-    for (int k = 0; k < 3; ++k) s_[k] += p[k];
-    ss_[0] += p[0] * p[0];
-    ss_[1] += p[0] * p[1];
-    ss_[2] += p[0] * p[2];
-    ss_[3] += p[1] * p[1];
-    ss_[4] += p[1] * p[2];
-    ss_[5] += p[2] * p[2];
-  }
-  n_ += weight;
-}
-
 bool PlaneFit::solve(Plane& out) const {
   if (n_ < 3) return false;
   const double inv = 1.0 / n_;

@@ -62,8 +62,20 @@ bool plane_from_points(const float* a, const float* b, const float* c, Plane& ou
 /// Accumulates points for a least-squares plane (smallest eigenvector of the covariance).
 class PlaneFit {
  public:
-  /// Adds the point `weight` times.
-  void add(float x, float y, float z, int weight = 1);
+  /// Adds the point `weight` times (inline: refinement adds every inlier of a frame).
+  void add(float x, float y, float z, int weight = 1) {
+    const double p[3] = {x, y, z};
+    for (int copy = 0; copy < weight; ++copy) {
+      for (int k = 0; k < 3; ++k) s_[k] += p[k];
+      ss_[0] += p[0] * p[0];
+      ss_[1] += p[0] * p[1];
+      ss_[2] += p[0] * p[2];
+      ss_[3] += p[1] * p[1];
+      ss_[4] += p[1] * p[2];
+      ss_[5] += p[2] * p[2];
+    }
+    n_ += weight;
+  }
   [[nodiscard]] int count() const { return n_; }
   /// False with fewer than 3 points or a degenerate spread.
   bool solve(Plane& out) const;
