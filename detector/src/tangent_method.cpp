@@ -252,18 +252,28 @@ class TangentMethod final : public Method {
       follow_columns(cloud, false);
       any = true;
     }
+    write_cells(cloud, any, out);
+  }
+
+  // Labels (and with `labelled`, heights) of every return into its cell of the frame, a layer's
+  // points at a time (the cloud is in layer order).
+  void write_cells(const Cloud& cloud, bool labelled, GroundResult& out) const {
     constexpr auto kGround = static_cast<std::uint8_t>(GroundLabel::ground);
     constexpr auto kObstacle = static_cast<std::uint8_t>(GroundLabel::obstacle);
-    for (Index i = 0; i < cloud.size(); ++i) {
-      const Index cell = cloud.cell[i];
-      const int layer = cloud.layer[i];
-      const std::uint8_t label = any && ground_[i] != 0 ? kGround : kObstacle;
-      out.label[layer][cell] = label;
-      if (any) out.height_m[layer][cell] = height_[i];
-      if (cloud.has_twin(i)) {  // the same echo in the last layer
-        out.label[1][cell] = label;
-        if (any) out.height_m[1][cell] = height_[i];
+    const Index layer_begin[3] = {0, strongest_end(cloud), cloud.size()};
+    for (Index layer = 0; layer < 2; ++layer) {
+      std::uint8_t* const label = out.label[layer].data();
+      float* const height = out.height_m[layer].data();
+      for (Index i = layer_begin[layer]; i < layer_begin[layer + 1]; ++i) {
+        label[cloud.cell[i]] = labelled && ground_[i] != 0 ? kGround : kObstacle;
+        if (labelled) height[cloud.cell[i]] = height_[i];
       }
+    }
+    // A twin is the same echo in the last layer's cell (no distinct last return is there).
+    for (Index i = 0; i < layer_begin[1] && !cloud.twin.empty(); ++i) {
+      if (!cloud.has_twin(i)) continue;
+      out.label[1][cloud.cell[i]] = out.label[0][cloud.cell[i]];
+      if (labelled) out.height_m[1][cloud.cell[i]] = height_[i];
     }
   }
 
