@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <limits>
+#include <utility>
 
 #include "vlpground_internal/vector_clones.hpp"
 
@@ -49,6 +50,76 @@ bool consider_centre(const SearchInput& in, const std::array<std::int64_t, 4>& m
 
 namespace {
 
+// The running sums after a pass over the centres of a row: I(c,r) and I(c,B) of the column
+// the pass stepped to, I(B,r), I(B,B).
+template <class Acc>
+struct Sums {
+  const Acc *acc, *acc_bottom, *row_total, *total;
+  Index m_count;
+};
+
+// Columns stepped since a centre: prefix then total of the later one, then of the earlier one
+// (nullptr: none).
+template <class Acc>
+struct Stepped {
+  const Acc *p_last, *t_last, *p_first, *t_first;
+};
+
+// Rare: a centre beat the best so far. Its planes are the first hypotheses reaching each
+// segment's maximum, from its sums: those after the pass less the columns stepped since.
+template <class Acc>
+void find_planes(const Sums<Acc>& q, const std::array<Acc, 4>& maxima,
+                 const std::array<bool, 4>& ground, const Stepped<Acc>& stepped,
+                 SearchResult& result) {
+  for (int s = 0; s < 4; ++s) {
+    result.plane[idx(s)] = -1;
+    if (!ground[idx(s)]) continue;
+    for (Index m = 0; m < q.m_count; ++m) {
+      Acc i = Acc(q.acc[m] - stepped.p_last[m]), ic = Acc(q.acc_bottom[m] - stepped.t_last[m]);
+      if (stepped.p_first != nullptr) {
+        i = Acc(i - stepped.p_first[m]);
+        ic = Acc(ic - stepped.t_first[m]);
+      }
+      const Acc ib = q.row_total[m];
+      const Acc v = s == 0   ? i
+                    : s == 1 ? Acc(ib - i)
+                    : s == 2 ? Acc(ic - i)
+                             : Acc(q.total[m] - ib - ic + i);
+      if (v == maxima[idx(s)]) {
+        result.plane[idx(s)] = static_cast<int>(m);
+        break;
+      }
+    }
+  }
+}
+
+// Segment sums of centres (c, r) and (c + 1, r) from I(c,r) (acc), I(B,r), I(c,B)
+// (acc_bottom), I(B,B), their maxima, and the steps to columns c + 1 (p0, t0: column c's
+// prefix and total) and c + 2 (p1, t1), as one vectorisable pass over M.
+template <class Acc>
+std::pair<std::array<Acc, 4>, std::array<Acc, 4>> step_two_centres(
+    Acc* __restrict acc, Acc* __restrict acc_bottom, const Acc* __restrict row_total,
+    const Acc* __restrict total, const Acc* __restrict p0, const Acc* __restrict t0,
+    const Acc* __restrict p1, const Acc* __restrict t1, Index m_count) {
+  Acc a0 = std::numeric_limits<Acc>::min(), a1 = a0, a2 = a0, a3 = a0;
+  Acc n0 = a0, n1 = a0, n2 = a0, n3 = a0;
+  for (Index m = 0; m < m_count; ++m) {
+    const Acc i = acc[m], ib = row_total[m], ic = acc_bottom[m];
+    a0 = std::max(a0, i);
+    a1 = std::max(a1, Acc(ib - i));
+    a2 = std::max(a2, Acc(ic - i));
+    a3 = std::max(a3, Acc(total[m] - ib - ic + i));
+    const Acc j = Acc(i + p0[m]), jc = Acc(ic + t0[m]);
+    n0 = std::max(n0, j);
+    n1 = std::max(n1, Acc(ib - j));
+    n2 = std::max(n2, Acc(jc - j));
+    n3 = std::max(n3, Acc(total[m] - ib - jc + j));
+    acc[m] = Acc(j + p1[m]);
+    acc_bottom[m] = Acc(jc + t1[m]);
+  }
+  return {{a0, a1, a2, a3}, {n0, n1, n2, n3}};
+}
+
 // Acc: int16 when every partial sum fits (twice the lanes per vector), else int32.
 template <class Acc>
 SearchResult search_streaming(const SearchInput& in, std::vector<Acc>& scratch) {
@@ -84,40 +155,21 @@ SearchResult search_streaming(const SearchInput& in, std::vector<Acc>& scratch) 
   for (int r = 0; r < b; ++r) {
     std::fill_n(acc, m_count, 0);
     std::fill_n(acc_bottom, m_count, 0);
-    for (int c = 0; c < b; ++c) {
-      const Acc* p = col_prefix + idx(c) * m_count;
-      const Acc* t = col_total + idx(c) * m_count;
-      // Segment sums from I(c,r), I(B,r), I(c,B), I(B,B), their maxima, and the step to
-      // column c + 1, as one vectorisable pass over M.
-      Acc m0 = std::numeric_limits<Acc>::min(), m1 = m0, m2 = m0, m3 = m0;
-      for (Index m = 0; m < m_count; ++m) {
-        const Acc i = acc[m], ib = row_total[m], ic = acc_bottom[m];
-        m0 = std::max(m0, i);
-        m1 = std::max(m1, Acc(ib - i));
-        m2 = std::max(m2, Acc(ic - i));
-        m3 = std::max(m3, Acc(total[m] - ib - ic + i));
-        acc[m] = Acc(i + p[m]);
-        acc_bottom[m] = Acc(ic + t[m]);
-      }
-      if (consider_centre(in, {m0, m1, m2, m3}, c, r, result, ground)) {
-        // Rare: the sums of this centre are those before the step just taken.
-        for (int s = 0; s < 4; ++s) {
-          result.plane[idx(s)] = -1;
-          if (!ground[idx(s)]) continue;
-          const std::int64_t want = std::array<Acc, 4>{m0, m1, m2, m3}[idx(s)];
-          for (Index m = 0; m < m_count; ++m) {
-            const Acc i = Acc(acc[m] - p[m]), ib = row_total[m], ic = Acc(acc_bottom[m] - t[m]);
-            const Acc v = s == 0   ? i
-                          : s == 1 ? Acc(ib - i)
-                          : s == 2 ? Acc(ic - i)
-                                   : Acc(total[m] - ib - ic + i);
-            if (v == want) {
-              result.plane[idx(s)] = static_cast<int>(m);
-              break;
-            }
-          }
-        }
-      }
+    // Two centres per pass over M, (c, r) then (c + 1, r); past the last column (odd B) the
+    // second is a phantom stepping over column c again, never considered.
+    for (int c = 0; c < b; c += 2) {
+      const Index c1 = idx(std::min(c + 1, b - 1));
+      const Acc* p0 = col_prefix + idx(c) * m_count;
+      const Acc* t0 = col_total + idx(c) * m_count;
+      const Acc* p1 = col_prefix + c1 * m_count;
+      const Acc* t1 = col_total + c1 * m_count;
+      const auto [a, n] = step_two_centres(acc, acc_bottom, row_total, total, p0, t0, p1, t1,
+                                           m_count);
+      const Sums<Acc> sums{acc, acc_bottom, row_total, total, m_count};
+      if (consider_centre(in, {a[0], a[1], a[2], a[3]}, c, r, result, ground))
+        find_planes(sums, a, ground, {p1, t1, p0, t0}, result);
+      if (c + 1 < b && consider_centre(in, {n[0], n[1], n[2], n[3]}, c + 1, r, result, ground))
+        find_planes(sums, n, ground, {p1, t1, nullptr, nullptr}, result);
     }
     for (int c = 0; c < b; ++c) {
       const std::int32_t slot = in.bin_slot[idx(r * b + c)];
