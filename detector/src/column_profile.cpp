@@ -20,25 +20,21 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
                            std::vector<std::uint8_t>& ground, std::vector<float>& height) {
   p_ = params;
   start_z_ = p_.sensor_z > 0.f ? 0.f : p_.vehicle.at(p_.sensor_x, p_.sensor_y);
-  gather_by_column(cloud, steep, height, plane_height);  // height: over level 2 until here
+  const Index strongest = strongest_end(cloud);
+  // height: over level 2 until here
+  gather_by_column(cloud, steep, height, plane_height, strongest == cloud.size());
   const Index columns = column_start_.size() - 1;
   for (Index c = 0; c < columns; ++c) walk_column(c, column_start_[c], column_start_[c + 1]);
-  ground.resize(cloud.size());
-  road_beyond_.resize(cloud.size());
-  for (const ColumnPoint& q : points_) {
-    ground[q.index] = q.ground;
-    road_beyond_[q.index] = q.road_beyond;
-  }
-  find_ring_runs(cloud);  // for the silhouettes and the shadows
+  find_ring_runs(cloud, strongest);  // for the silhouettes and the shadows
   // Silhouettes first: an object standing out (a facade's ring line that the walk took past
   // a fence line) must not vouch for a single rise below it.
-  remove_silhouettes(cloud, ground);
-  for (ColumnPoint& q : points_) q.ground = ground[q.index];
+  remove_silhouettes(cloud);
   drop_refuted_rises(cloud);
   for (Index c = 0; c < columns; ++c) {
     drop_raised_groups(column_start_[c], column_start_[c + 1]);
     check_single_rises(column_start_[c], column_start_[c + 1]);
   }
+  ground.resize(cloud.size());
   height.resize(cloud.size());
   shadowed_.resize(cloud.size());
   for (const ColumnPoint& q : points_) {
@@ -51,9 +47,9 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
 
 // Along each ring (strongest layer), runs of returns continuous in space: the run [a, b]
 // of the ring's returns [first, last), found once per frame (positions only).
-void ColumnProfiles::find_ring_runs(const Cloud& cloud) {
+void ColumnProfiles::find_ring_runs(const Cloud& cloud, Index strongest_end) {
   runs_.clear();
-  const RingRuns rows = point_ring_runs(cloud, 0, strongest_end(cloud));
+  const RingRuns rows = point_ring_runs(cloud, 0, strongest_end);
   for (int ring = 0; ring < kLasers; ++ring) {
     const Index first = rows[static_cast<Index>(ring)], last = rows[static_cast<Index>(ring) + 1];
     Index a = first;
@@ -71,8 +67,7 @@ void ColumnProfiles::find_ring_runs(const Cloud& cloud) {
 // crown, a shed or a fence over ground the rings do not see, or in front of ground seen
 // farther on. (Ground refused in the shadow of an obstacle within a run is filled in
 // afterwards: fill_shadows.)
-void ColumnProfiles::remove_silhouettes(const Cloud& cloud,
-                                        std::vector<std::uint8_t>& ground) {
+void ColumnProfiles::remove_silhouettes(const Cloud& cloud) {
   stands_out_.assign(cloud.size(), 0);
   for (const RingRun& run : runs_) {
     if (!stands_out(cloud, run.first, run.last, run.a, run.b)) continue;
@@ -90,13 +85,13 @@ void ColumnProfiles::remove_silhouettes(const Cloud& cloud,
     // standing out as well; over a low object a higher ring sees the road only in its gaps.
     Index road_first = b + 1, road_last = a;
     for (Index i = a; i <= b; ++i) {
-      const std::uint32_t beyond = road_beyond_[i];
+      const std::uint32_t beyond = points_[position_[i]].road_beyond;
       if (beyond == kNoPoint || stands_out_[beyond] != 0) continue;
       road_first = std::min(road_first, i);
       road_last = i;
     }
     if (road_first <= b && apart(cloud, road_first, road_last, p_.shadow_anchor_m)) continue;
-    for (Index i = a; i <= b; ++i) ground[i] = 0;
+    for (Index i = a; i <= b; ++i) points_[position_[i]].ground = 0;
   }
 }
 
@@ -147,7 +142,7 @@ void ColumnProfiles::fill_between(const Cloud& cloud, Index a, Index b,
 }
 
 // Whether the ground returns of the run from i (before `end`) reach shadow_anchor_m from it.
-bool ColumnProfiles::long_ground_from(const Cloud& cloud, const std::vector<std::uint8_t>& ground,
+inline bool ColumnProfiles::long_ground_from(const Cloud& cloud, const std::vector<std::uint8_t>& ground,
                                       Index i, Index end) const {
   for (Index j = i; j < end && ground[j] != 0; ++j) {
     if (apart(cloud, i, j, p_.shadow_anchor_m)) return true;
@@ -155,7 +150,7 @@ bool ColumnProfiles::long_ground_from(const Cloud& cloud, const std::vector<std:
   return false;
 }
 
-bool ColumnProfiles::continuous(const Cloud& cloud, Index a, Index b) const {
+inline bool ColumnProfiles::continuous(const Cloud& cloud, Index a, Index b) const {
   if (cloud.column[b] - cloud.column[a] > p_.run_column_gap) return false;
   const float dr = cloud.range_xy[b] - cloud.range_xy[a], dz = cloud.z[b] - cloud.z[a];
   const float limit = p_.run_gap_m + p_.run_gap_per_m * cloud.range_xy[a];
@@ -184,11 +179,11 @@ bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Ind
 
 // Counting sort by column into points_ (what the walk reads, gathered so that it reads
 // sequentially); the cloud is in (layer, ring, column) order, so each column's points come
-// out ring-ascending per layer. The layers are then merged by ring and range with an
-// insertion sort (at most 32 points per column; nothing moves in single-return frames).
+// out ring-ascending per layer, already in walking order when the cloud has one layer.
 void ColumnProfiles::gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
                                       const std::vector<float>& level2_height,
-                                      const std::vector<float>& plane_height) {
+                                      const std::vector<float>& plane_height,
+                                      bool one_layer) {
   int columns = 0;
   for (Index i = 0; i < cloud.size(); ++i) columns = std::max(columns, cloud.column[i] + 1);
   column_start_.assign(static_cast<Index>(columns) + 1, 0);
@@ -196,11 +191,20 @@ void ColumnProfiles::gather_by_column(const Cloud& cloud, const std::uint8_t* st
   for (Index c = 1; c < column_start_.size(); ++c) column_start_[c] += column_start_[c - 1];
   cursor_.assign(column_start_.begin(), column_start_.end() - 1);
   points_.resize(cloud.size());
+  position_.resize(cloud.size());
   for (Index i = 0; i < cloud.size(); ++i) {
-    ColumnPoint& q = points_[cursor_[cloud.column[i]]++];
+    position_[i] = cursor_[cloud.column[i]]++;
+    ColumnPoint& q = points_[position_[i]];
     q = {cloud.range_xy[i], cloud.z[i], level2_height[i], plane_height[i], 0.f,
          static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(cloud.ring[i]), steep[i], 0};
   }
+  if (!one_layer) merge_layers();
+  note_ring_reach();
+}
+
+// Each column's returns of both layers merged by ring and range with an insertion sort
+// (at most 32 points per column); position_ follows.
+void ColumnProfiles::merge_layers() {
   auto before = [](const ColumnPoint& u, const ColumnPoint& w) {
     return u.ring != w.ring ? u.ring < w.ring : u.r < w.r;
   };
@@ -215,9 +219,21 @@ void ColumnProfiles::gather_by_column(const Cloud& cloud, const std::uint8_t* st
       *b = v;
     }
   }
+  for (Index k = 0; k < points_.size(); ++k) position_[points_[k].index] = static_cast<std::uint32_t>(k);
 }
 
-void ColumnProfiles::add_to_profile(float r, float z) {
+// Every column's farthest return per ring (0: none), for ray_reaches; a column is sorted by
+// ring and range, so the last return of a ring is its farthest.
+void ColumnProfiles::note_ring_reach() {
+  const Index columns = column_start_.size() - 1;
+  ring_reach_.assign(columns * kLasers, 0.f);
+  for (Index c = 0; c < columns; ++c) {
+    float* reach = ring_reach_.data() + c * kLasers;
+    for (Index k = column_start_[c]; k < column_start_[c + 1]; ++k) reach[points_[k].ring] = points_[k].r;
+  }
+}
+
+inline void ColumnProfiles::add_to_profile(float r, float z) {
   if (profile_size_ == profile_r_.size()) return;
   profile_r_[profile_size_] = r;
   profile_z_[profile_size_] = z;
@@ -226,7 +242,7 @@ void ColumnProfiles::add_to_profile(float r, float z) {
 
 // Height of the walked profile at horizontal distance r (its ground returns are in walking
 // order, increasing r), linear between the returns around r.
-float ColumnProfiles::profile_at(float r) const {
+inline float ColumnProfiles::profile_at(float r) const {
   std::size_t k = 1;
   while (k < profile_size_ && profile_r_[k] < r) ++k;
   if (k >= profile_size_) return profile_z_[profile_size_ - 1];
@@ -238,15 +254,9 @@ float ColumnProfiles::profile_at(float r) const {
 // Whether the ray of `ring` in `column` reached horizontal distance r: its return lies no
 // more than reach_slack_m short of r, or it has none (the sky) and neither neighbour
 // column has one short of r (else it may have dropped out).
-bool ColumnProfiles::ray_reaches(Index column, int ring, float r) const {
-  // The ring's farthest return in column c (0: none); a column is sorted by ring and range.
-  const auto far = [&](Index c) {
-    float farthest = 0.f;
-    for (Index k = column_start_[c]; k < column_start_[c + 1] && points_[k].ring <= ring; ++k) {
-      if (points_[k].ring == ring) farthest = points_[k].r;
-    }
-    return farthest;
-  };
+inline bool ColumnProfiles::ray_reaches(Index column, int ring, float r) const {
+  // The ring's farthest return in column c (0: none).
+  const auto far = [&](Index c) { return ring_reach_[c * kLasers + static_cast<Index>(ring)]; };
   const float reach = r - p_.reach_slack_m;
   const float here = far(column);
   if (here > 0.f) return here > reach;
@@ -468,12 +478,12 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
 
 // A ground return of its column that may vouch for its neighbours (rule 4): not on a steep
 // surface taken for the foot of a wall.
-bool ColumnProfiles::is_ground_neighbour(Index k) const {
+inline bool ColumnProfiles::is_ground_neighbour(Index k) const {
   return points_[k].ground != 0 && points_[k].steep == 0;
 }
 
 // Whether return k lies more than `by` over the level-2 surface.
-bool ColumnProfiles::raised_over_level2(Index k, float by) const {
+inline bool ColumnProfiles::raised_over_level2(Index k, float by) const {
   const float h = points_[k].level2_h;
   return std::isfinite(h) && h > by;
 }
@@ -527,21 +537,20 @@ bool ColumnProfiles::rise_refuted(const Cloud& cloud, Index c, Index a, Index b)
 // does not matter.
 void ColumnProfiles::drop_refuted_rises(const Cloud& cloud) {
   const Index columns = column_start_.size() - 1;
-  refuted_.assign(points_.size(), 0);
+  refuted_.clear();
+  refuted_.reserve(points_.size());  // grown once, with the cloud
   for (Index c = 0; c < columns; ++c) {
     Index last = points_.size();  // the column's last ground return
     for (Index k = column_start_[c]; k < column_start_[c + 1]; ++k) {
       if (!is_ground_neighbour(k)) continue;
       if (last < points_.size() && points_[k].z - points_[last].z > p_.single_rise_m &&
           rise_refuted(cloud, c, last, k)) {
-        refuted_[k] = 1;
+        refuted_.push_back(static_cast<std::uint32_t>(k));
       }
       last = k;
     }
   }
-  for (Index k = 0; k < points_.size(); ++k) {
-    if (refuted_[k] != 0) points_[k].ground = 0;
-  }
+  for (const std::uint32_t k : refuted_) points_[k].ground = 0;
 }
 
 // A group of consecutive raised ground returns of a column (over half single_rise_m above

@@ -145,7 +145,9 @@ class ColumnProfiles {
   };
   void gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
                         const std::vector<float>& level2_height,
-                        const std::vector<float>& plane_height);
+                        const std::vector<float>& plane_height, bool one_layer);
+  void merge_layers();
+  void note_ring_reach();
   void walk_column(std::size_t column, std::size_t begin, std::size_t end);
   [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
   [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
@@ -157,8 +159,8 @@ class ColumnProfiles {
   void drop_refuted_rises(const Cloud& cloud);
   void drop_raised_groups(std::size_t begin, std::size_t end);
   void check_single_rises(std::size_t begin, std::size_t end);
-  void find_ring_runs(const Cloud& cloud);
-  void remove_silhouettes(const Cloud& cloud, std::vector<std::uint8_t>& ground);
+  void find_ring_runs(const Cloud& cloud, std::size_t strongest_end);
+  void remove_silhouettes(const Cloud& cloud);
   void fill_shadows(const Cloud& cloud, std::size_t begin, std::size_t end,
                     std::vector<std::uint8_t>& ground) const;
   void fill_between(const Cloud& cloud, std::size_t a, std::size_t b,
@@ -178,9 +180,10 @@ class ColumnProfiles {
   std::size_t profile_size_ = 0;
   std::vector<std::uint32_t> column_start_, cursor_;
   std::vector<ColumnPoint> points_;
+  std::vector<std::uint32_t> position_;  // column point of each cloud point
+  std::vector<float> ring_reach_;  // farthest return by column and ring (ray_reaches)
   std::vector<std::uint8_t> shadowed_;  // ColumnPoint::shadowed by cloud point
-  std::vector<std::uint32_t> road_beyond_;  // ColumnPoint::road_beyond by cloud point
-  std::vector<std::uint8_t> refuted_;        // by column point (drop_refuted_rises)
+  std::vector<std::uint32_t> refuted_;  // column points to drop (drop_refuted_rises)
   std::vector<std::uint8_t> stands_out_;     // in a run standing out (remove_silhouettes)
   // A run [a, b] of returns continuous along a ring whose returns are [first, last).
   struct RingRun {
