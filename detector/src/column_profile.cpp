@@ -21,26 +21,26 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   p_ = params;
   start_z_ = p_.sensor_z > 0.f ? 0.f : p_.vehicle.at(p_.sensor_x, p_.sensor_y);
   const Index strongest = strongest_end(cloud);
-  // height: over level 2 until here
-  gather_by_column(cloud, steep, height, plane_height, strongest == cloud.size());
+  // height: over level 2 until the walk puts each return's height over its profile there
+  gather_by_column(cloud, steep, height, strongest == cloud.size());
   const Index columns = column_start_.size() - 1;
-  for (Index c = 0; c < columns; ++c) walk_column(c, column_start_[c], column_start_[c + 1]);
+  for (Index c = 0; c < columns; ++c) {
+    walk_column(c, column_start_[c], column_start_[c + 1], plane_height, height);
+  }
   find_ring_runs(cloud, strongest);  // for the silhouettes and the shadows
   // Silhouettes first: an object standing out (a facade's ring line that the walk took past
   // a fence line) must not vouch for a single rise below it.
   remove_silhouettes(cloud);
   drop_refuted_rises(cloud);
+  ground.resize(cloud.size());
+  shadowed_.resize(cloud.size());
   for (Index c = 0; c < columns; ++c) {
     drop_raised_groups(column_start_[c], column_start_[c + 1]);
     check_single_rises(column_start_[c], column_start_[c + 1]);
-  }
-  ground.resize(cloud.size());
-  height.resize(cloud.size());
-  shadowed_.resize(cloud.size());
-  for (const ColumnPoint& q : points_) {
-    ground[q.index] = q.ground;
-    height[q.index] = q.over;
-    shadowed_[q.index] = q.shadowed;
+    for (Index k = column_start_[c]; k < column_start_[c + 1]; ++k) {  // the column's labels
+      ground[points_[k].index] = points_[k].ground;
+      shadowed_[points_[k].index] = points_[k].shadowed;
+    }
   }
   for (const RingRun& run : runs_) fill_shadows(cloud, run.a, run.b + 1, ground);
 }
@@ -182,7 +182,6 @@ bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Ind
 // out ring-ascending per layer, already in walking order when the cloud has one layer.
 void ColumnProfiles::gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
                                       const std::vector<float>& level2_height,
-                                      const std::vector<float>& plane_height,
                                       bool one_layer) {
   int columns = 0;
   for (Index i = 0; i < cloud.size(); ++i) columns = std::max(columns, cloud.column[i] + 1);
@@ -195,8 +194,8 @@ void ColumnProfiles::gather_by_column(const Cloud& cloud, const std::uint8_t* st
   for (Index i = 0; i < cloud.size(); ++i) {
     position_[i] = cursor_[cloud.column[i]]++;
     ColumnPoint& q = points_[position_[i]];
-    q = {cloud.range_xy[i], cloud.z[i], level2_height[i], plane_height[i], 0.f,
-         static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(cloud.ring[i]), steep[i], 0};
+    q = {cloud.range_xy[i], cloud.z[i], level2_height[i], static_cast<std::uint32_t>(i),
+         static_cast<std::uint8_t>(cloud.ring[i]), steep[i], 0};
   }
   if (!one_layer) merge_layers();
   note_ring_reach();
@@ -307,8 +306,10 @@ bool ColumnProfiles::rises_over_its_ray(Index k, Index end) const {
 }
 
 // One column outwards from the sensor. The profile is the last ground return (r, z) and
-// the gradient dz/dr along the column, starting at the ground under the sensor.
-void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
+// the gradient dz/dr along the column, starting at the ground under the sensor. Heights over
+// the profile go to `height` (by cloud point).
+void ColumnProfiles::walk_column(Index column, Index begin, Index end,
+                                 const std::vector<float>& plane_height, std::vector<float>& height) {
   if (begin == end) return;
   // The profile starts level under the sensor: at z = 0 when the mounting height is known
   // (the vehicle frame's ground), else on the vehicle's surface. Starting with that
@@ -362,7 +363,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
     // Beyond the last ground return the profile is extrapolated; nearer (a canopy or a
     // wall seen by a higher ring in front of ground already walked), it is interpolated.
     const float over = advance >= 0.f ? z - (last_z + gradient * advance) : z - profile_at(r);
-    q.over = over;
+    height[q.index] = over;
     if (q.steep != 0) {  // a wall, a car side, a pole
       // Past an obstacle before the column's first ground return the profile is only the
       // start's guess: its band needs the level-2 surface not to disagree (the foot of a far
@@ -376,7 +377,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       // extrapolated runs into it).
       const bool climb_guessed = gradient * advance > p_.steep_climb_m;
       q.ground = (std::abs(over) < p_.steep_band_m && !guess_off && !climb_guessed) ||
-                 (std::abs(q.plane_h) < p_.steep_band_m &&
+                 (std::abs(plane_height[q.index]) < p_.steep_band_m &&
                   (std::abs(over) < p_.plane_foot_m || profile_size_ == 1));
       const bool vetoed = under_a_ray(r, z, q.ring);
       if (q.ground != 0 && vetoed) q.ground = 0;
@@ -436,7 +437,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       next_gradient = std::clamp(step, gradient - p_.gradient_step, gradient + p_.gradient_step);
     }
     // Past an obstacle, a return on a level-1 plane that explains its cell is ground too.
-    if (!accept && blocked && std::abs(q.plane_h) <= p_.plane_band_m) accept = true;
+    if (!accept && blocked && std::abs(plane_height[q.index]) <= p_.plane_band_m) accept = true;
     const bool refused_here = !accept;
     if (accept && under_a_ray(r, z, q.ring)) accept = false;
     if (!accept) {
@@ -453,7 +454,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
     // Resumed past an obstacle as ground over the sensor where level 2 disagrees.
     q.rises_on = blocked && profile_size_ <= 2 && !(std::abs(q.level2_h) <= p_.single_rise_m) &&
                  rises_over_its_ray(k, end);
-    q.bend = step - gradient;
+    q.kinked = step - gradient > p_.kink_gradient;
     // The column's first return, ground level with the ground under the vehicle: that ground
     // going on (rule 4 keeps it, whatever the level-2 surface says).
     q.vehicle_ground = profile_size_ == 1 && !blocked &&
@@ -596,7 +597,7 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
   Index previous = end;  // previous ground return of the column
   for (Index k = begin; k < end; ++k) {
     if (!is_ground_neighbour(k)) continue;
-    const float rise = points_[k].bend > p_.kink_gradient ? p_.kink_rise_m : p_.single_rise_m;
+    const float rise = points_[k].kinked != 0 ? p_.kink_rise_m : p_.single_rise_m;
     if (raised_over_level2(k, rise)) {
       Index next = k + 1;
       while (next < end && !is_ground_neighbour(next)) ++next;
@@ -622,7 +623,7 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
       // a fence line, where the level-2 surface is extrapolated), unless it resumed as ground
       // over the sensor that the next returns rise on from (rises_over_its_ray: rings near
       // the horizon land far apart).
-      const bool vouches_after = points_[k].bend <= p_.kink_gradient || points_[k].rises_on != 0 ||
+      const bool vouches_after = points_[k].kinked == 0 || points_[k].rises_on != 0 ||
                                  (next < end && points_[next].r - points_[k].r <=
                                                     p_.kink_vouch_span * points_[k].r);
       const bool after = !bump && next < end && vouches_after &&

@@ -128,7 +128,7 @@ class ColumnProfiles {
   static constexpr std::uint8_t kShadow = 1, kFoot = 2;
   // A return as the walk sees it, gathered in column order.
   struct ColumnPoint {
-    float r, z, level2_h, plane_h, over;
+    float r, z, level2_h;
     std::uint32_t index;  // cloud point
     std::uint8_t ring, steep, ground;
     // Refused only for an obstacle in front, or as a single rise under the vehicle's ground
@@ -136,19 +136,20 @@ class ColumnProfiles {
     // it (fill_shadows).
     std::uint8_t shadowed = 0;
     std::uint8_t rises_on = 0;  // resumed as ground over the sensor (rises_over_its_ray)
+    // Taken as ground bending the profile's gradient up by more than kink_gradient.
+    std::uint8_t kinked = 0;
     std::uint8_t vehicle_ground = 0;  // the column's first return, level with the start
     // ... and the cloud index of the column's next ground return when that goes on level
     // from it (a higher ring, nothing between): the road the vehicle stands on, seen by two
     // rings, unless that return stands out itself (remove_silhouettes).
     std::uint32_t road_beyond = kNoPoint;
-    float bend = 0.f;  // change of the profile's gradient when taken as ground
   };
   void gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
-                        const std::vector<float>& level2_height,
-                        const std::vector<float>& plane_height, bool one_layer);
+                        const std::vector<float>& level2_height, bool one_layer);
   void merge_layers();
   void note_ring_reach();
-  void walk_column(std::size_t column, std::size_t begin, std::size_t end);
+  void walk_column(std::size_t column, std::size_t begin, std::size_t end,
+                   const std::vector<float>& plane_height, std::vector<float>& height);
   [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
   [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
   [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end) const;
