@@ -24,7 +24,10 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   // height: over level 2 until the walk puts each return's height over its profile there
   gather_by_column(cloud, steep, height, strongest == cloud.size());
   const Index columns = column_start_.size() - 1;
+  ring_reach_.resize(columns * kLasers);
+  if (columns > 0) note_ring_reach(0);
   for (Index c = 0; c < columns; ++c) {
+    if (c + 1 < columns) note_ring_reach(c + 1);  // ray_reaches looks one column ahead
     walk_column(c, column_start_[c], column_start_[c + 1], plane_height, height);
   }
   find_ring_runs(cloud, strongest);  // for the silhouettes and the shadows
@@ -49,13 +52,14 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
 // of the ring's returns [first, last), found once per frame (positions only).
 void ColumnProfiles::find_ring_runs(const Cloud& cloud, Index strongest_end) {
   runs_.clear();
+  mark_continuous(cloud, strongest_end);
   const RingRuns rows = point_ring_runs(cloud, 0, strongest_end);
   for (int ring = 0; ring < kLasers; ++ring) {
     const Index first = rows[static_cast<Index>(ring)], last = rows[static_cast<Index>(ring) + 1];
     Index a = first;
     while (a < last) {
       Index b = a;
-      while (b + 1 < last && continuous(cloud, b, b + 1)) ++b;
+      while (b + 1 < last && continuous_[b] != 0) ++b;
       runs_.push_back({first, last, a, b});
       a = b + 1;
     }
@@ -150,11 +154,22 @@ inline bool ColumnProfiles::long_ground_from(const Cloud& cloud, const std::vect
   return false;
 }
 
-inline bool ColumnProfiles::continuous(const Cloud& cloud, Index a, Index b) const {
-  if (cloud.column[b] - cloud.column[a] > p_.run_column_gap) return false;
-  const float dr = cloud.range_xy[b] - cloud.range_xy[a], dz = cloud.z[b] - cloud.z[a];
-  const float limit = p_.run_gap_m + p_.run_gap_per_m * cloud.range_xy[a];
-  return dr * dr + dz * dz <= limit * limit;
+// Whether each return of [0, end) is continuous with the next one (run_column_gap,
+// run_gap_m + run_gap_per_m x range): one pass without branches, so that the compiler
+// vectorises it (the ring runs read it only within a ring).
+void ColumnProfiles::mark_continuous(const Cloud& cloud, Index end) {
+  continuous_.resize(end);
+  const std::uint16_t* column = cloud.column.data();
+  const float *range = cloud.range_xy.data(), *z = cloud.z.data();
+  const int column_gap = p_.run_column_gap;
+  const float gap_m = p_.run_gap_m, gap_per_m = p_.run_gap_per_m;
+  std::uint8_t* continuous = continuous_.data();
+  for (Index a = 0; a + 1 < end; ++a) {
+    const float dr = range[a + 1] - range[a], dz = z[a + 1] - z[a];
+    const float limit = gap_m + gap_per_m * range[a];
+    continuous[a] = static_cast<std::uint8_t>((column[a + 1] - column[a] <= column_gap) &
+                                              (dr * dr + dz * dz <= limit * limit));
+  }
 }
 
 // Run [a, b] of one ring (positions first..last): short, and both ends open to the sky or
@@ -198,7 +213,6 @@ void ColumnProfiles::gather_by_column(const Cloud& cloud, const std::uint8_t* st
          static_cast<std::uint8_t>(cloud.ring[i]), steep[i], 0};
   }
   if (!one_layer) merge_layers();
-  note_ring_reach();
 }
 
 // Each column's returns of both layers merged by ring and range with an insertion sort
@@ -221,15 +235,12 @@ void ColumnProfiles::merge_layers() {
   for (Index k = 0; k < points_.size(); ++k) position_[points_[k].index] = static_cast<std::uint32_t>(k);
 }
 
-// Every column's farthest return per ring (0: none), for ray_reaches; a column is sorted by
-// ring and range, so the last return of a ring is its farthest.
-void ColumnProfiles::note_ring_reach() {
-  const Index columns = column_start_.size() - 1;
-  ring_reach_.assign(columns * kLasers, 0.f);
-  for (Index c = 0; c < columns; ++c) {
-    float* reach = ring_reach_.data() + c * kLasers;
-    for (Index k = column_start_[c]; k < column_start_[c + 1]; ++k) reach[points_[k].ring] = points_[k].r;
-  }
+// Column c's farthest return per ring (0: none), for ray_reaches; a column is sorted by ring
+// and range, so the last return of a ring is its farthest.
+void ColumnProfiles::note_ring_reach(Index c) {
+  float* reach = ring_reach_.data() + c * kLasers;
+  std::fill(reach, reach + kLasers, 0.f);
+  for (Index k = column_start_[c]; k < column_start_[c + 1]; ++k) reach[points_[k].ring] = points_[k].r;
 }
 
 inline void ColumnProfiles::add_to_profile(float r, float z) {

@@ -147,7 +147,7 @@ class ColumnProfiles {
   void gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
                         const std::vector<float>& level2_height, bool one_layer);
   void merge_layers();
-  void note_ring_reach();
+  void note_ring_reach(std::size_t c);
   void walk_column(std::size_t column, std::size_t begin, std::size_t end,
                    const std::vector<float>& plane_height, std::vector<float>& height);
   [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
@@ -168,7 +168,7 @@ class ColumnProfiles {
                     std::vector<std::uint8_t>& ground) const;
   [[nodiscard]] bool long_ground_from(const Cloud& cloud, const std::vector<std::uint8_t>& ground,
                                       std::size_t i, std::size_t end) const;
-  [[nodiscard]] bool continuous(const Cloud& cloud, std::size_t a, std::size_t b) const;
+  void mark_continuous(const Cloud& cloud, std::size_t end);
   [[nodiscard]] bool stands_out(const Cloud& cloud, std::size_t first, std::size_t last,
                                 std::size_t a, std::size_t b) const;
   void add_to_profile(float r, float z);
@@ -186,6 +186,7 @@ class ColumnProfiles {
   std::vector<std::uint8_t> shadowed_;  // ColumnPoint::shadowed by cloud point
   std::vector<std::uint32_t> refuted_;  // column points to drop (drop_refuted_rises)
   std::vector<std::uint8_t> stands_out_;     // in a run standing out (remove_silhouettes)
+  std::vector<std::uint8_t> continuous_;     // with the next return (mark_continuous)
   // A run [a, b] of returns continuous along a ring whose returns are [first, last).
   struct RingRun {
     std::size_t first, last, a, b;
