@@ -20,46 +20,46 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
                            std::vector<std::uint8_t>& ground, std::vector<float>& height) {
   p_ = params;
   start_z_ = p_.sensor_z > 0.f ? 0.f : p_.vehicle.at(p_.sensor_x, p_.sensor_y);
-  gather_by_column(cloud, steep, height, plane_height);  // height: over level 2 until here
+  const Index strongest = strongest_end(cloud);
+  // height: over level 2 until the walk puts each return's height over its profile there
+  gather_by_column(cloud, steep, height, strongest == cloud.size());
   const Index columns = column_start_.size() - 1;
-  for (Index c = 0; c < columns; ++c) walk_column(c, column_start_[c], column_start_[c + 1]);
-  ground.resize(cloud.size());
-  road_beyond_.resize(cloud.size());
-  for (const ColumnPoint& q : points_) {
-    ground[q.index] = q.ground;
-    road_beyond_[q.index] = q.road_beyond;
+  ring_reach_.resize(columns * kLasers);
+  if (columns > 0) note_ring_reach(0);
+  for (Index c = 0; c < columns; ++c) {
+    if (c + 1 < columns) note_ring_reach(c + 1);  // ray_reaches looks one column ahead
+    walk_column(c, column_start_[c], column_start_[c + 1], plane_height, height);
   }
-  find_ring_runs(cloud);  // for the silhouettes and the shadows
+  find_ring_runs(cloud, strongest);  // for the silhouettes and the shadows
   // Silhouettes first: an object standing out (a facade's ring line that the walk took past
   // a fence line) must not vouch for a single rise below it.
-  remove_silhouettes(cloud, ground);
-  for (ColumnPoint& q : points_) q.ground = ground[q.index];
+  remove_silhouettes(cloud);
   drop_refuted_rises(cloud);
+  ground.resize(cloud.size());
+  shadowed_.resize(cloud.size());
   for (Index c = 0; c < columns; ++c) {
     drop_raised_groups(column_start_[c], column_start_[c + 1]);
     check_single_rises(column_start_[c], column_start_[c + 1]);
-  }
-  height.resize(cloud.size());
-  shadowed_.resize(cloud.size());
-  for (const ColumnPoint& q : points_) {
-    ground[q.index] = q.ground;
-    height[q.index] = q.over;
-    shadowed_[q.index] = q.shadowed;
+    for (Index k = column_start_[c]; k < column_start_[c + 1]; ++k) {  // the column's labels
+      ground[points_[k].index] = points_[k].ground;
+      shadowed_[points_[k].index] = points_[k].shadowed;
+    }
   }
   for (const RingRun& run : runs_) fill_shadows(cloud, run.a, run.b + 1, ground);
 }
 
 // Along each ring (strongest layer), runs of returns continuous in space: the run [a, b]
 // of the ring's returns [first, last), found once per frame (positions only).
-void ColumnProfiles::find_ring_runs(const Cloud& cloud) {
+void ColumnProfiles::find_ring_runs(const Cloud& cloud, Index strongest_end) {
   runs_.clear();
-  const RingRuns rows = point_ring_runs(cloud, 0, strongest_end(cloud));
+  mark_continuous(cloud, strongest_end);
+  const RingRuns rows = point_ring_runs(cloud, 0, strongest_end);
   for (int ring = 0; ring < kLasers; ++ring) {
     const Index first = rows[static_cast<Index>(ring)], last = rows[static_cast<Index>(ring) + 1];
     Index a = first;
     while (a < last) {
       Index b = a;
-      while (b + 1 < last && continuous(cloud, b, b + 1)) ++b;
+      while (b + 1 < last && continuous_[b] != 0) ++b;
       runs_.push_back({first, last, a, b});
       a = b + 1;
     }
@@ -71,8 +71,7 @@ void ColumnProfiles::find_ring_runs(const Cloud& cloud) {
 // crown, a shed or a fence over ground the rings do not see, or in front of ground seen
 // farther on. (Ground refused in the shadow of an obstacle within a run is filled in
 // afterwards: fill_shadows.)
-void ColumnProfiles::remove_silhouettes(const Cloud& cloud,
-                                        std::vector<std::uint8_t>& ground) {
+void ColumnProfiles::remove_silhouettes(const Cloud& cloud) {
   stands_out_.assign(cloud.size(), 0);
   for (const RingRun& run : runs_) {
     if (!stands_out(cloud, run.first, run.last, run.a, run.b)) continue;
@@ -90,13 +89,13 @@ void ColumnProfiles::remove_silhouettes(const Cloud& cloud,
     // standing out as well; over a low object a higher ring sees the road only in its gaps.
     Index road_first = b + 1, road_last = a;
     for (Index i = a; i <= b; ++i) {
-      const std::uint32_t beyond = road_beyond_[i];
+      const std::uint32_t beyond = points_[position_[i]].road_beyond;
       if (beyond == kNoPoint || stands_out_[beyond] != 0) continue;
       road_first = std::min(road_first, i);
       road_last = i;
     }
     if (road_first <= b && apart(cloud, road_first, road_last, p_.shadow_anchor_m)) continue;
-    for (Index i = a; i <= b; ++i) ground[i] = 0;
+    for (Index i = a; i <= b; ++i) points_[position_[i]].ground = 0;
   }
 }
 
@@ -147,7 +146,7 @@ void ColumnProfiles::fill_between(const Cloud& cloud, Index a, Index b,
 }
 
 // Whether the ground returns of the run from i (before `end`) reach shadow_anchor_m from it.
-bool ColumnProfiles::long_ground_from(const Cloud& cloud, const std::vector<std::uint8_t>& ground,
+inline bool ColumnProfiles::long_ground_from(const Cloud& cloud, const std::vector<std::uint8_t>& ground,
                                       Index i, Index end) const {
   for (Index j = i; j < end && ground[j] != 0; ++j) {
     if (apart(cloud, i, j, p_.shadow_anchor_m)) return true;
@@ -155,11 +154,22 @@ bool ColumnProfiles::long_ground_from(const Cloud& cloud, const std::vector<std:
   return false;
 }
 
-bool ColumnProfiles::continuous(const Cloud& cloud, Index a, Index b) const {
-  if (cloud.column[b] - cloud.column[a] > p_.run_column_gap) return false;
-  const float dr = cloud.range_xy[b] - cloud.range_xy[a], dz = cloud.z[b] - cloud.z[a];
-  const float limit = p_.run_gap_m + p_.run_gap_per_m * cloud.range_xy[a];
-  return dr * dr + dz * dz <= limit * limit;
+// Whether each return of [0, end) is continuous with the next one (run_column_gap,
+// run_gap_m + run_gap_per_m x range): one pass without branches, so that the compiler
+// vectorises it (the ring runs read it only within a ring).
+void ColumnProfiles::mark_continuous(const Cloud& cloud, Index end) {
+  continuous_.resize(end);
+  const std::uint16_t* column = cloud.column.data();
+  const float *range = cloud.range_xy.data(), *z = cloud.z.data();
+  const int column_gap = p_.run_column_gap;
+  const float gap_m = p_.run_gap_m, gap_per_m = p_.run_gap_per_m;
+  std::uint8_t* continuous = continuous_.data();
+  for (Index a = 0; a + 1 < end; ++a) {
+    const float dr = range[a + 1] - range[a], dz = z[a + 1] - z[a];
+    const float limit = gap_m + gap_per_m * range[a];
+    continuous[a] = static_cast<std::uint8_t>((column[a + 1] - column[a] <= column_gap) &
+                                              (dr * dr + dz * dz <= limit * limit));
+  }
 }
 
 // Run [a, b] of one ring (positions first..last): short, and both ends open to the sky or
@@ -184,11 +194,10 @@ bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Ind
 
 // Counting sort by column into points_ (what the walk reads, gathered so that it reads
 // sequentially); the cloud is in (layer, ring, column) order, so each column's points come
-// out ring-ascending per layer. The layers are then merged by ring and range with an
-// insertion sort (at most 32 points per column; nothing moves in single-return frames).
+// out ring-ascending per layer, already in walking order when the cloud has one layer.
 void ColumnProfiles::gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
                                       const std::vector<float>& level2_height,
-                                      const std::vector<float>& plane_height) {
+                                      bool one_layer) {
   int columns = 0;
   for (Index i = 0; i < cloud.size(); ++i) columns = std::max(columns, cloud.column[i] + 1);
   column_start_.assign(static_cast<Index>(columns) + 1, 0);
@@ -196,11 +205,19 @@ void ColumnProfiles::gather_by_column(const Cloud& cloud, const std::uint8_t* st
   for (Index c = 1; c < column_start_.size(); ++c) column_start_[c] += column_start_[c - 1];
   cursor_.assign(column_start_.begin(), column_start_.end() - 1);
   points_.resize(cloud.size());
+  position_.resize(cloud.size());
   for (Index i = 0; i < cloud.size(); ++i) {
-    ColumnPoint& q = points_[cursor_[cloud.column[i]]++];
-    q = {cloud.range_xy[i], cloud.z[i], level2_height[i], plane_height[i], 0.f,
-         static_cast<std::uint32_t>(i), static_cast<std::uint8_t>(cloud.ring[i]), steep[i], 0};
+    position_[i] = cursor_[cloud.column[i]]++;
+    ColumnPoint& q = points_[position_[i]];
+    q = {cloud.range_xy[i], cloud.z[i], level2_height[i], static_cast<std::uint32_t>(i),
+         static_cast<std::uint8_t>(cloud.ring[i]), steep[i], 0};
   }
+  if (!one_layer) merge_layers();
+}
+
+// Each column's returns of both layers merged by ring and range with an insertion sort
+// (at most 32 points per column); position_ follows.
+void ColumnProfiles::merge_layers() {
   auto before = [](const ColumnPoint& u, const ColumnPoint& w) {
     return u.ring != w.ring ? u.ring < w.ring : u.r < w.r;
   };
@@ -215,9 +232,18 @@ void ColumnProfiles::gather_by_column(const Cloud& cloud, const std::uint8_t* st
       *b = v;
     }
   }
+  for (Index k = 0; k < points_.size(); ++k) position_[points_[k].index] = static_cast<std::uint32_t>(k);
 }
 
-void ColumnProfiles::add_to_profile(float r, float z) {
+// Column c's farthest return per ring (0: none), for ray_reaches; a column is sorted by ring
+// and range, so the last return of a ring is its farthest.
+void ColumnProfiles::note_ring_reach(Index c) {
+  float* reach = ring_reach_.data() + c * kLasers;
+  std::fill(reach, reach + kLasers, 0.f);
+  for (Index k = column_start_[c]; k < column_start_[c + 1]; ++k) reach[points_[k].ring] = points_[k].r;
+}
+
+inline void ColumnProfiles::add_to_profile(float r, float z) {
   if (profile_size_ == profile_r_.size()) return;
   profile_r_[profile_size_] = r;
   profile_z_[profile_size_] = z;
@@ -226,7 +252,7 @@ void ColumnProfiles::add_to_profile(float r, float z) {
 
 // Height of the walked profile at horizontal distance r (its ground returns are in walking
 // order, increasing r), linear between the returns around r.
-float ColumnProfiles::profile_at(float r) const {
+inline float ColumnProfiles::profile_at(float r) const {
   std::size_t k = 1;
   while (k < profile_size_ && profile_r_[k] < r) ++k;
   if (k >= profile_size_) return profile_z_[profile_size_ - 1];
@@ -238,15 +264,9 @@ float ColumnProfiles::profile_at(float r) const {
 // Whether the ray of `ring` in `column` reached horizontal distance r: its return lies no
 // more than reach_slack_m short of r, or it has none (the sky) and neither neighbour
 // column has one short of r (else it may have dropped out).
-bool ColumnProfiles::ray_reaches(Index column, int ring, float r) const {
-  // The ring's farthest return in column c (0: none); a column is sorted by ring and range.
-  const auto far = [&](Index c) {
-    float farthest = 0.f;
-    for (Index k = column_start_[c]; k < column_start_[c + 1] && points_[k].ring <= ring; ++k) {
-      if (points_[k].ring == ring) farthest = points_[k].r;
-    }
-    return farthest;
-  };
+inline bool ColumnProfiles::ray_reaches(Index column, int ring, float r) const {
+  // The ring's farthest return in column c (0: none).
+  const auto far = [&](Index c) { return ring_reach_[c * kLasers + static_cast<Index>(ring)]; };
   const float reach = r - p_.reach_slack_m;
   const float here = far(column);
   if (here > 0.f) return here > reach;
@@ -297,8 +317,10 @@ bool ColumnProfiles::rises_over_its_ray(Index k, Index end) const {
 }
 
 // One column outwards from the sensor. The profile is the last ground return (r, z) and
-// the gradient dz/dr along the column, starting at the ground under the sensor.
-void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
+// the gradient dz/dr along the column, starting at the ground under the sensor. Heights over
+// the profile go to `height` (by cloud point).
+void ColumnProfiles::walk_column(Index column, Index begin, Index end,
+                                 const std::vector<float>& plane_height, std::vector<float>& height) {
   if (begin == end) return;
   // The profile starts level under the sensor: at z = 0 when the mounting height is known
   // (the vehicle frame's ground), else on the vehicle's surface. Starting with that
@@ -352,7 +374,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
     // Beyond the last ground return the profile is extrapolated; nearer (a canopy or a
     // wall seen by a higher ring in front of ground already walked), it is interpolated.
     const float over = advance >= 0.f ? z - (last_z + gradient * advance) : z - profile_at(r);
-    q.over = over;
+    height[q.index] = over;
     if (q.steep != 0) {  // a wall, a car side, a pole
       // Past an obstacle before the column's first ground return the profile is only the
       // start's guess: its band needs the level-2 surface not to disagree (the foot of a far
@@ -366,7 +388,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       // extrapolated runs into it).
       const bool climb_guessed = gradient * advance > p_.steep_climb_m;
       q.ground = (std::abs(over) < p_.steep_band_m && !guess_off && !climb_guessed) ||
-                 (std::abs(q.plane_h) < p_.steep_band_m &&
+                 (std::abs(plane_height[q.index]) < p_.steep_band_m &&
                   (std::abs(over) < p_.plane_foot_m || profile_size_ == 1));
       const bool vetoed = under_a_ray(r, z, q.ring);
       if (q.ground != 0 && vetoed) q.ground = 0;
@@ -426,7 +448,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
       next_gradient = std::clamp(step, gradient - p_.gradient_step, gradient + p_.gradient_step);
     }
     // Past an obstacle, a return on a level-1 plane that explains its cell is ground too.
-    if (!accept && blocked && std::abs(q.plane_h) <= p_.plane_band_m) accept = true;
+    if (!accept && blocked && std::abs(plane_height[q.index]) <= p_.plane_band_m) accept = true;
     const bool refused_here = !accept;
     if (accept && under_a_ray(r, z, q.ring)) accept = false;
     if (!accept) {
@@ -443,7 +465,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
     // Resumed past an obstacle as ground over the sensor where level 2 disagrees.
     q.rises_on = blocked && profile_size_ <= 2 && !(std::abs(q.level2_h) <= p_.single_rise_m) &&
                  rises_over_its_ray(k, end);
-    q.bend = step - gradient;
+    q.kinked = step - gradient > p_.kink_gradient;
     // The column's first return, ground level with the ground under the vehicle: that ground
     // going on (rule 4 keeps it, whatever the level-2 surface says).
     q.vehicle_ground = profile_size_ == 1 && !blocked &&
@@ -468,12 +490,12 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end) {
 
 // A ground return of its column that may vouch for its neighbours (rule 4): not on a steep
 // surface taken for the foot of a wall.
-bool ColumnProfiles::is_ground_neighbour(Index k) const {
+inline bool ColumnProfiles::is_ground_neighbour(Index k) const {
   return points_[k].ground != 0 && points_[k].steep == 0;
 }
 
 // Whether return k lies more than `by` over the level-2 surface.
-bool ColumnProfiles::raised_over_level2(Index k, float by) const {
+inline bool ColumnProfiles::raised_over_level2(Index k, float by) const {
   const float h = points_[k].level2_h;
   return std::isfinite(h) && h > by;
 }
@@ -527,21 +549,20 @@ bool ColumnProfiles::rise_refuted(const Cloud& cloud, Index c, Index a, Index b)
 // does not matter.
 void ColumnProfiles::drop_refuted_rises(const Cloud& cloud) {
   const Index columns = column_start_.size() - 1;
-  refuted_.assign(points_.size(), 0);
+  refuted_.clear();
+  refuted_.reserve(points_.size());  // grown once, with the cloud
   for (Index c = 0; c < columns; ++c) {
     Index last = points_.size();  // the column's last ground return
     for (Index k = column_start_[c]; k < column_start_[c + 1]; ++k) {
       if (!is_ground_neighbour(k)) continue;
       if (last < points_.size() && points_[k].z - points_[last].z > p_.single_rise_m &&
           rise_refuted(cloud, c, last, k)) {
-        refuted_[k] = 1;
+        refuted_.push_back(static_cast<std::uint32_t>(k));
       }
       last = k;
     }
   }
-  for (Index k = 0; k < points_.size(); ++k) {
-    if (refuted_[k] != 0) points_[k].ground = 0;
-  }
+  for (const std::uint32_t k : refuted_) points_[k].ground = 0;
 }
 
 // A group of consecutive raised ground returns of a column (over half single_rise_m above
@@ -587,7 +608,7 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
   Index previous = end;  // previous ground return of the column
   for (Index k = begin; k < end; ++k) {
     if (!is_ground_neighbour(k)) continue;
-    const float rise = points_[k].bend > p_.kink_gradient ? p_.kink_rise_m : p_.single_rise_m;
+    const float rise = points_[k].kinked != 0 ? p_.kink_rise_m : p_.single_rise_m;
     if (raised_over_level2(k, rise)) {
       Index next = k + 1;
       while (next < end && !is_ground_neighbour(next)) ++next;
@@ -613,7 +634,7 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
       // a fence line, where the level-2 surface is extrapolated), unless it resumed as ground
       // over the sensor that the next returns rise on from (rises_over_its_ray: rings near
       // the horizon land far apart).
-      const bool vouches_after = points_[k].bend <= p_.kink_gradient || points_[k].rises_on != 0 ||
+      const bool vouches_after = points_[k].kinked == 0 || points_[k].rises_on != 0 ||
                                  (next < end && points_[next].r - points_[k].r <=
                                                     p_.kink_vouch_span * points_[k].r);
       const bool after = !bump && next < end && vouches_after &&

@@ -128,7 +128,7 @@ class ColumnProfiles {
   static constexpr std::uint8_t kShadow = 1, kFoot = 2;
   // A return as the walk sees it, gathered in column order.
   struct ColumnPoint {
-    float r, z, level2_h, plane_h, over;
+    float r, z, level2_h;
     std::uint32_t index;  // cloud point
     std::uint8_t ring, steep, ground;
     // Refused only for an obstacle in front, or as a single rise under the vehicle's ground
@@ -136,17 +136,20 @@ class ColumnProfiles {
     // it (fill_shadows).
     std::uint8_t shadowed = 0;
     std::uint8_t rises_on = 0;  // resumed as ground over the sensor (rises_over_its_ray)
+    // Taken as ground bending the profile's gradient up by more than kink_gradient.
+    std::uint8_t kinked = 0;
     std::uint8_t vehicle_ground = 0;  // the column's first return, level with the start
     // ... and the cloud index of the column's next ground return when that goes on level
     // from it (a higher ring, nothing between): the road the vehicle stands on, seen by two
     // rings, unless that return stands out itself (remove_silhouettes).
     std::uint32_t road_beyond = kNoPoint;
-    float bend = 0.f;  // change of the profile's gradient when taken as ground
   };
   void gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
-                        const std::vector<float>& level2_height,
-                        const std::vector<float>& plane_height);
-  void walk_column(std::size_t column, std::size_t begin, std::size_t end);
+                        const std::vector<float>& level2_height, bool one_layer);
+  void merge_layers();
+  void note_ring_reach(std::size_t c);
+  void walk_column(std::size_t column, std::size_t begin, std::size_t end,
+                   const std::vector<float>& plane_height, std::vector<float>& height);
   [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
   [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
   [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end) const;
@@ -157,15 +160,15 @@ class ColumnProfiles {
   void drop_refuted_rises(const Cloud& cloud);
   void drop_raised_groups(std::size_t begin, std::size_t end);
   void check_single_rises(std::size_t begin, std::size_t end);
-  void find_ring_runs(const Cloud& cloud);
-  void remove_silhouettes(const Cloud& cloud, std::vector<std::uint8_t>& ground);
+  void find_ring_runs(const Cloud& cloud, std::size_t strongest_end);
+  void remove_silhouettes(const Cloud& cloud);
   void fill_shadows(const Cloud& cloud, std::size_t begin, std::size_t end,
                     std::vector<std::uint8_t>& ground) const;
   void fill_between(const Cloud& cloud, std::size_t a, std::size_t b,
                     std::vector<std::uint8_t>& ground) const;
   [[nodiscard]] bool long_ground_from(const Cloud& cloud, const std::vector<std::uint8_t>& ground,
                                       std::size_t i, std::size_t end) const;
-  [[nodiscard]] bool continuous(const Cloud& cloud, std::size_t a, std::size_t b) const;
+  void mark_continuous(const Cloud& cloud, std::size_t end);
   [[nodiscard]] bool stands_out(const Cloud& cloud, std::size_t first, std::size_t last,
                                 std::size_t a, std::size_t b) const;
   void add_to_profile(float r, float z);
@@ -178,10 +181,12 @@ class ColumnProfiles {
   std::size_t profile_size_ = 0;
   std::vector<std::uint32_t> column_start_, cursor_;
   std::vector<ColumnPoint> points_;
+  std::vector<std::uint32_t> position_;  // column point of each cloud point
+  std::vector<float> ring_reach_;  // farthest return by column and ring (ray_reaches)
   std::vector<std::uint8_t> shadowed_;  // ColumnPoint::shadowed by cloud point
-  std::vector<std::uint32_t> road_beyond_;  // ColumnPoint::road_beyond by cloud point
-  std::vector<std::uint8_t> refuted_;        // by column point (drop_refuted_rises)
+  std::vector<std::uint32_t> refuted_;  // column points to drop (drop_refuted_rises)
   std::vector<std::uint8_t> stands_out_;     // in a run standing out (remove_silhouettes)
+  std::vector<std::uint8_t> continuous_;     // with the next return (mark_continuous)
   // A run [a, b] of returns continuous along a ring whose returns are [first, last).
   struct RingRun {
     std::size_t first, last, a, b;
