@@ -186,10 +186,37 @@ bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Ind
                                           static_cast<int>(cloud.column[end])) - 1
                                : edge_gap;
     if (gap >= p_.sky_columns) return true;  // no return for a while: the sky
-    return has_beyond && cloud.range_xy[beyond] > cloud.range_xy[end] + p_.run_gap_m;
+    return has_beyond && (cloud.range_xy[beyond] > cloud.range_xy[end] + p_.run_gap_m ||
+                          stopped_by_face(cloud, end, beyond));
   };
   return open(a, a - 1, a > first, static_cast<int>(cloud.column[a])) &&
          open(b, b + 1, b + 1 < last, columns - 1 - static_cast<int>(cloud.column[b]));
+}
+
+// Whether the ray of return `end`, rising over the sensor, passed on where the same ring's
+// ray in the next column met ground (`nearer`, closer by more than the ring's run gap) that
+// climbed from its column's last ground return more steeply than face_over_ray x its ray.
+// Terrain does not let the one ray pass beside a face the other ray met: `end` is an object
+// seen past the face's end.
+bool ColumnProfiles::stopped_by_face(const Cloud& cloud, Index end, Index nearer) const {
+  if (p_.sensor_z <= 0.f || cloud.z[end] <= p_.sensor_z) return false;
+  const float r = cloud.range_xy[end];
+  if (cloud.range_xy[nearer] >= r - p_.run_gap_m - p_.run_gap_per_m * r) return false;
+  const Index k = position_[nearer];
+  const ColumnPoint& q = points_[k];
+  if (q.ground == 0 || q.steep != 0) return false;
+  const Index begin = column_start_[cloud.column[nearer]];
+  float last_r = 0.f, last_z = start_z_;  // the column's start when no ground return before
+  for (Index j = k; j > begin;) {
+    if (points_[--j].ground != 0) {
+      last_r = points_[j].r;
+      last_z = points_[j].z;
+      break;
+    }
+  }
+  if (q.r < last_r + p_.min_advance_m) return false;
+  const float ray = (q.z - p_.sensor_z) / q.r;
+  return (q.z - last_z) / (q.r - last_r) >= p_.face_over_ray * ray;
 }
 
 // Counting sort by column into points_ (what the walk reads, gathered so that it reads

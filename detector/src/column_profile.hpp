@@ -96,6 +96,11 @@ struct ProfileParams {
   float run_gap_m = 0.3f, run_gap_per_m = 0.02f;
   float silhouette_max_m = 6.f;
   int sky_columns = 3;
+  // ... or, for a ring's ray rising over the sensor, the next return nearer still where the
+  // ground it met there climbed from its column's last ground return more steeply than
+  // face_over_ray x that ray (a bank's face): the ray would pass on beside that face only
+  // over a step to the side (a bush or a shed on the bank's top seen past the face's end).
+  float face_over_ray = 2.f;
   // Rays never pass under the ground (docs/detector.md, "Column profiles", rule 6): a return
   // is not ground when the ray of a lower ring of its column reaches it (returns at most
   // reach_slack_m nearer, or farther) more than under_ray_m under it, or when it climbs
@@ -171,6 +176,8 @@ class ColumnProfiles {
   void mark_continuous(const Cloud& cloud, std::size_t end);
   [[nodiscard]] bool stands_out(const Cloud& cloud, std::size_t first, std::size_t last,
                                 std::size_t a, std::size_t b) const;
+  [[nodiscard]] bool stopped_by_face(const Cloud& cloud, std::size_t end,
+                                     std::size_t nearer) const;
   void add_to_profile(float r, float z);
   [[nodiscard]] float profile_at(float r) const;
 

@@ -706,3 +706,35 @@ TEST_CASE("column profiles: a shoulder under an overhang is the underside of an 
   CHECK(ring4(kFarther) == 1);
   CHECK(ring4(kCrownNearer) == 0);
 }
+
+TEST_CASE("column profiles: a rising ray passing on beside a face the next column met is an object",
+          "[detector][profiles]") {
+  // Sim bank_s101 (frame 4): rings 0-3 climb a bank face at 0.35; in columns 30-59 ring 4,
+  // rising over the sensor, meets the face 2.5 m past ring 3; in columns 20-29 it passes on
+  // and meets a bush on the bank's top 26 m out, far under the profile extrapolated up the
+  // face (taken as the level top beyond the face); in columns 0-19 it goes to the sky. The
+  // bush's run is short (4.5 m) and open to the sky on one side; on the other the same ray
+  // met the face nearer, climbing more steeply than face_over_ray x the ray.
+  const auto bush_ground = [](float face_z) {
+    Scan s;
+    for (int ring = 0; ring < 4; ++ring) {
+      const float r = 10.f + static_cast<float>(ring);
+      for (int col = 0; col < 60; ++col) add(s, ring, col, r, 0.35f * (r - 10.f), 1);
+    }
+    const float ray = (1.925f - 1.8f) / 15.5f;  // ring 4's slope over the sensor (1.8 m)
+    for (int col = 20; col < 60; ++col) {
+      if (col < 30) add(s, 4, col, 26.f, 1.8f + ray * 26.f, 2);
+      else add(s, 4, col, 15.5f, face_z, face_z < 3.f ? 1 : 2);
+    }
+    const auto ground = label(s).ground;
+    int bush = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      if (s.cloud.ring[i] == 4 && s.cloud.column[i] < 30) bush += ground[i];
+    }
+    return bush;
+  };
+  CHECK(bush_ground(1.925f) == 0);  // the face going on at 0.35, the ray at 0.008
+  // Where ring 4 met no ground nearer (a car roof 4 m up, refused as a step), nothing says
+  // the terrain did not rise to meet the ray 26 m out.
+  CHECK(bush_ground(4.f) == 10);
+}
