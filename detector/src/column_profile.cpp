@@ -343,6 +343,14 @@ bool ColumnProfiles::rises_over_its_ray(Index k, Index end) const {
   return seen == p_.rising_ray_returns;
 }
 
+// Whether `above`, the column's next return (a higher ring), lies more than overhang_m
+// nearer than q and over q's ray at its distance.
+bool ColumnProfiles::under_overhang(const ColumnPoint& q, const ColumnPoint& above) const {
+  if (above.ring == q.ring || above.r >= q.r - p_.overhang_m) return false;
+  const float ray_z = p_.sensor_z + (q.z - p_.sensor_z) * (above.r / q.r);
+  return above.z > ray_z;
+}
+
 // One column outwards from the sensor. The profile is the last ground return (r, z) and
 // the gradient dz/dr along the column, starting at the ground under the sensor. Heights over
 // the profile go to `height` (by cloud point).
@@ -449,11 +457,9 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       if (step >= p_.shoulder_gradient && step >= gradient - p_.gradient_step) {
         next_gradient = step;
         // ... but not under an overhang: the next ring of the column met something nearer
-        // and higher (a tree crown on a bank's top, met from below).
-        if (k + 1 < end && points_[k + 1].ring != q.ring && points_[k + 1].r < r - p_.overhang_m &&
-            points_[k + 1].z > z) {
-          accept = false;
-        }
+        // and over this return's ray there (a tree crown on a bank's top, met from below:
+        // ground cannot lie over a ray that passed on under it).
+        if (k + 1 < end && under_overhang(q, points_[k + 1])) accept = false;
       } else {
         next_gradient_r = r;
       }

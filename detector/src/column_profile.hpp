@@ -52,7 +52,8 @@ struct ProfileParams {
   // gradient bends no more than gradient_step): a hill's shoulder keeps that gradient.
   float shoulder_gradient = 0.1f;
   // ... and is not under an overhang: the column's next (higher) ring met something more
-  // than this nearer and higher (a tree crown on a bank's top met from below).
+  // than this nearer and over the return's ray there (a tree crown on a bank's top met
+  // from below).
   float overhang_m = 1.f;
   float min_advance_m = 0.3f;  // nearer than this (horizontally) to the last ground return
   float anchor_slack_m = 0.05f;  // ... a ground return moves the profile's end at most
@@ -158,6 +159,7 @@ class ColumnProfiles {
   [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
   [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
   [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end) const;
+  [[nodiscard]] bool under_overhang(const ColumnPoint& q, const ColumnPoint& above) const;
   [[nodiscard]] bool is_ground_neighbour(std::size_t k) const;
   [[nodiscard]] bool raised_over_level2(std::size_t k, float by) const;
   [[nodiscard]] bool rise_refuted(const Cloud& cloud, std::size_t c, std::size_t a,

@@ -692,19 +692,23 @@ TEST_CASE("column profiles: a shoulder under an overhang is the underside of an 
   // tree crown on the bank's top under the profile extrapolated up the face, still rising
   // from ring 3 (a hill's shoulder, rule 1); ring 5 meets the crown 2.5 m nearer and higher:
   // met from below, so ring 4's return is no ground. The level-2 surface follows the face.
-  enum Above { kSky, kCrownNearer, kFarther };
+  enum Above { kSky, kCrownNearer, kCrownNearerLower, kFarther };
   const auto ring4 = [](Above above) {
     Scan s;
     const float r[] = {10.f, 11.4f, 12.4f, 13.4f, 21.5f};
     const float z[] = {0.f, 0.35f, 0.7f, 1.05f, 3.f};
     for (int ring = 0; ring < 5; ++ring) add(s, ring, 0, r[ring], z[ring], ring < 4 ? 1 : 2);
     if (above == kCrownNearer) add(s, 5, 0, 19.f, 3.6f, 2);
+    if (above == kCrownNearerLower) add(s, 5, 0, 19.f, 2.95f, 2);
     if (above == kFarther) add(s, 5, 0, 30.f, 5.f, 1);
     return label(s, std::vector<float>(s.cloud.size(), 0.f)).ground[4];
   };
   CHECK(ring4(kSky) == 1);  // nothing says the shoulder is not the top's ground
   CHECK(ring4(kFarther) == 1);
   CHECK(ring4(kCrownNearer) == 0);
+  // Sim bank_s102: the crown's return lower than ring 4's but over ring 4's ray at 19 m
+  // (2.86 m from the sensor at 1.8 m): ring 4 passed on under it, so it is no ground there.
+  CHECK(ring4(kCrownNearerLower) == 0);
 }
 
 TEST_CASE("column profiles: a rising ray passing on beside a face the next column met is an object",
