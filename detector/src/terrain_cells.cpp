@@ -553,7 +553,6 @@ void TerrainCells::fit(const Candidates& cand, const std::vector<std::int32_t>& 
   // ground: in a segment whose low returns lie in its label band, or where the cell's
   // surface is close to it.
   explained_segments(cand, bin_slot, level1);
-  count_candidates(cand, bin_slot);
   // Every segment explained: no cell can replace its level-1 plane, nothing to grow.
   if (segment_explained_[0] && segment_explained_[1] && segment_explained_[2] &&
       segment_explained_[3]) {
@@ -562,6 +561,7 @@ void TerrainCells::fit(const Candidates& cand, const std::vector<std::int32_t>& 
     surface_[vehicle_cell_] = level1_at(p_.sensor_x, p_.sensor_y);
     return;
   }
+  count_candidates(cand, bin_slot);
   auto settle = [&](int cell, const HeightPlane& s, bool fitted) {
     const Fit f(p_, side_, cell);
     const HeightPlane own = level1_at(f.xc, f.yc);
