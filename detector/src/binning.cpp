@@ -38,6 +38,20 @@ void locate(const float* __restrict xs, const float* __restrict ys, const float*
   }
 }
 
+// The arrays select reads and writes per return, as plain pointers held in locals: a
+// uint8_t store (the candidate's ring) may alias any vector's internals, so pointers
+// fetched from the vectors would be reloaded after every return.
+struct SelectLanes {
+  const float *x, *y, *z, *tx, *ty, *tz;
+  const std::uint8_t *valid, *steep;
+  const std::uint16_t *ring, *subcell;
+  const std::int32_t* sorted;
+};
+struct CandidateLanes {
+  float *x, *y, *z, *tx, *ty, *tz;
+  std::uint8_t* ring;
+};
+
 }  // namespace
 
 void Binning::sort(const Cloud& cloud, const GridSpec& grid) {
@@ -52,9 +66,12 @@ void Binning::sort(const Cloud& cloud, const GridSpec& grid) {
   for (Index b = 0; b < nb; ++b) bin_start_[b + 1] += bin_start_[b];
   sorted_.resize(idx(bin_start_[nb]));
   fill_.assign(bin_start_.begin(), bin_start_.end() - 1);
+  // Plain pointers in locals: the stores would otherwise have the vectors' pointers reloaded.
+  const std::int32_t* const bin = point_bin_.data();
+  std::int32_t* const fill = fill_.data();
+  std::int32_t* const sorted = sorted_.data();
   for (Index i = 0; i < n; ++i)
-    if (point_bin_[i] >= 0)
-      sorted_[idx(fill_[idx(point_bin_[i])]++)] = static_cast<std::int32_t>(i);
+    if (bin[i] >= 0) sorted[idx(fill[idx(bin[i])]++)] = static_cast<std::int32_t>(i);
 }
 
 void Binning::select(const Cloud& cloud, const GridSpec& grid, const Tangents& tangents,
@@ -66,43 +83,58 @@ void Binning::select(const Cloud& cloud, const GridSpec& grid, const Tangents& t
   for (auto* v : {&low.x, &low.y, &low.z, &low.tx, &low.ty, &low.tz}) v->clear();
   low.col.clear();
   low.row.clear();
-  // Candidates are written at slot k, which advances past kept ones only: room for all + 1.
+  // Candidates are the kept returns: room for all of them.
   cand.start.clear();
   for (auto* v : {&cand.x, &cand.y, &cand.z, &cand.tx, &cand.ty, &cand.tz})
-    if (v->size() < sorted_.size() + 1) v->resize(sorted_.size() + 1);
-  if (cand.ring.size() < sorted_.size() + 1) cand.ring.resize(sorted_.size() + 1);
+    if (v->size() < sorted_.size()) v->resize(sorted_.size());
+  if (cand.ring.size() < sorted_.size()) cand.ring.resize(sorted_.size());
   stamp_.resize(idx(std::max(1, grid.sub * grid.sub)));
   const std::uint32_t no_sub = grid.sub > 0 ? 0u : 1u;  // without sub-sampling every cell is new
+  const SelectLanes in{cloud.x.data(),       cloud.y.data(),  cloud.z.data(),   tangents.x.data(),
+                       tangents.y.data(),    tangents.z.data(), tangents.valid.data(),
+                       steep.data(),         cloud.ring.data(), subcell_.data(), sorted_.data()};
+  const CandidateLanes out{cand.x.data(),  cand.y.data(),  cand.z.data(),   cand.tx.data(),
+                           cand.ty.data(), cand.tz.data(), cand.ring.data()};
+  if (kept_.size() < sorted_.size()) kept_.resize(sorted_.size());
+  std::int32_t* const kept = kept_.data();
+  std::uint32_t* const stamps = stamp_.data();
+  const float band = grid.band_m;
   Index k = 0;
   for (Index b = 0; b < nb; ++b) {
     const Index begin = idx(bin_start_[b]), end = idx(bin_start_[b + 1]);
     if (begin == end) continue;
     float zmin = std::numeric_limits<float>::max();
-    for (Index s = begin; s < end; ++s) zmin = std::min(zmin, cloud.z[idx(sorted_[s])]);
+    for (Index s = begin; s < end; ++s) zmin = std::min(zmin, in.z[idx(in.sorted[s])]);
     if (++stamp_value_ == 0) std::fill(stamp_.begin(), stamp_.end(), stamp_value_++);
+    const std::uint32_t value = stamp_value_;
     bin_slot[b] = static_cast<std::int32_t>(cand.start.size());
     cand.start.push_back(static_cast<std::int32_t>(k));
     constexpr Index kNone = std::numeric_limits<Index>::max();
     Index lowest = kNone;
     float z_lowest = std::numeric_limits<float>::infinity();
+    // The returns kept (branchless compaction into kept[0, n)), then copied as candidates.
+    Index n = 0;
     for (Index s = begin; s < end; ++s) {
-      const Index i = idx(sorted_[s]);
-      std::uint32_t& stamp = stamp_[no_sub != 0 ? 0 : subcell_[i]];
-      const bool keep =
-          (cloud.z[i] <= zmin + grid.band_m) & ((stamp != stamp_value_) | (no_sub != 0));
-      stamp = keep ? stamp_value_ : stamp;
-      const bool ground_like = (tangents.valid[i] != 0) & (steep[i] == 0);
-      cand.x[k] = cloud.x[i];
-      cand.y[k] = cloud.y[i];
-      cand.z[k] = cloud.z[i];
-      cand.ring[k] = static_cast<std::uint8_t>(cloud.ring[i]);
-      cand.tx[k] = ground_like ? tangents.x[i] : 0.f;
-      cand.ty[k] = ground_like ? tangents.y[i] : 0.f;
-      cand.tz[k] = ground_like ? tangents.z[i] : kNoTangentZ;
-      const bool lower = keep & ground_like & (cloud.z[i] < z_lowest);
+      const Index i = idx(in.sorted[s]);
+      std::uint32_t& stamp = stamps[in.subcell[i]];  // cell 0 throughout without sub-sampling
+      const bool keep = (in.z[i] <= zmin + band) & ((stamp != value) | (no_sub != 0));
+      stamp = keep ? value : stamp;
+      kept[n] = static_cast<std::int32_t>(i);
+      n += keep;
+    }
+    for (Index j = 0; j < n; ++j, ++k) {
+      const Index i = idx(kept[j]);
+      const bool ground_like = (in.valid[i] != 0) & (in.steep[i] == 0);
+      out.x[k] = in.x[i];
+      out.y[k] = in.y[i];
+      out.z[k] = in.z[i];
+      out.ring[k] = static_cast<std::uint8_t>(in.ring[i]);
+      out.tx[k] = ground_like ? in.tx[i] : 0.f;
+      out.ty[k] = ground_like ? in.ty[i] : 0.f;
+      out.tz[k] = ground_like ? in.tz[i] : kNoTangentZ;
+      const bool lower = ground_like & (in.z[i] < z_lowest);
       lowest = lower ? i : lowest;
-      z_lowest = lower ? cloud.z[i] : z_lowest;
-      k += keep;
+      z_lowest = lower ? in.z[i] : z_lowest;
     }
     if (lowest == kNone) continue;
     low.slot_of_bin[b] = static_cast<std::int32_t>(low.x.size());

@@ -43,6 +43,7 @@ class Binning {
 
  private:
   std::vector<std::int32_t> point_bin_, bin_start_, fill_, sorted_;
+  std::vector<std::int32_t> kept_;      // select: the returns of a bin it keeps
   std::vector<std::uint16_t> subcell_;  // sub-sampling cell of each point in its bin
   std::vector<std::uint32_t> stamp_;    // per sub-sampling cell: last bin that used it
   std::uint32_t stamp_value_ = 0;

@@ -97,8 +97,9 @@ void label_kernel(const Lanes in, Index n, const SegmentPlanes& sp, const LabelR
 }
 
 // Near a partition line the planes across it may accept a return its own plane refused,
-// tried in this order.
-void label_near_lines(const Lanes in, Index n, const SegmentPlanes& sp, const LabelRule& r,
+// tried in this order. Planes and rule by value: the byte stores of labels would otherwise
+// have the partition centre and the rule reloaded for every return.
+void label_near_lines(const Lanes in, Index n, const SegmentPlanes sp, const LabelRule r,
                       std::uint8_t* ground, float* height) {
   for (Index i = 0; i < n; ++i) {
     if (ground[i] != 0) continue;

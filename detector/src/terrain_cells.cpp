@@ -108,9 +108,9 @@ int densest_window(const std::uint16_t* hist, int bins, int width, float share, 
   int sum = 0;
   for (int i = 0; i < width; ++i) sum += hist[i];
   int best = sum;
-  // Window sums are rolled once to find the maximum, then once more for the lowest that
-  // reaches the share.
-  for (int i = 1; i + width <= bins; ++i) {
+  // Window sums are rolled once to find the maximum (share 0 needs none: min_count alone
+  // decides), then once more for the lowest that reaches the share.
+  for (int i = 1; share != 0.f && i + width <= bins; ++i) {
     sum += hist[i + width - 1] - hist[i - 1];
     best = std::max(best, sum);
   }
@@ -169,7 +169,8 @@ struct TerrainCells::Fit {
       for (int c = c0; c < c1; ++c) {
         const std::int32_t slot = bin_slot[idx(r * bins + c)];
         if (slot < 0) continue;
-        for (std::int32_t k = cand.start[idx(slot)]; k < cand.start[idx(slot) + 1]; ++k) f(idx(k));
+        const std::int32_t end = cand.start[idx(slot) + 1];
+        for (std::int32_t k = cand.start[idx(slot)]; k < end; ++k) f(idx(k));
       }
     }
   }
@@ -217,6 +218,18 @@ void TerrainCells::explained_segments(const Candidates& cand,
         static_cast<float>(in_band[s]) >= kExplainedShare * static_cast<float>(low[s]);
 }
 
+void TerrainCells::count_candidates(const Candidates& cand,
+                                    const std::vector<std::int32_t>& bin_slot) {
+  cell_candidates_.assign(surface_.size(), 0);
+  // Plain pointers in locals: the int stores would otherwise have every vector reloaded.
+  const std::int32_t *slot = bin_slot.data(), *cell = cell_of_bin_.data(),
+                     *start = cand.start.data();
+  std::int32_t* const count = cell_candidates_.data();
+  const Index bins = idx(p_.bins * p_.bins);
+  for (Index b = 0; b < bins; ++b)
+    if (slot[b] >= 0) count[cell[b]] += start[slot[b] + 1] - start[slot[b]];
+}
+
 bool TerrainCells::close(int cell, const HeightPlane& a, const HeightPlane& b) const {
   const Fit f(p_, side_, cell);
   const float hx = 0.5f * static_cast<float>(f.c1 - f.c0) * p_.bin_m;
@@ -231,6 +244,9 @@ bool TerrainCells::close(int cell, const HeightPlane& a, const HeightPlane& b) c
 bool TerrainCells::fit_cell(int cell, const Candidates& cand,
                             const std::vector<std::int32_t>& bin_slot, const HeightPlane& ref,
                             float border_x, float border_y, HeightPlane& out) {
+  // Both fits need min_points inliers among the cell's candidates (most cells far out have
+  // fewer: they are not walked).
+  if (cell_candidates_[idx(cell)] < p_.min_points) return false;
   // Continuous with the reference where the two meet (the border with the cell it came
   // from): a roof, a wall top or a barrier is a step there.
   auto continuous = [&](const HeightPlane& h, float step) {
@@ -315,24 +331,54 @@ bool TerrainCells::search_cell(int cell, const Candidates& cand,
   return true;
 }
 
+// The cell's candidates with a usable tangent (eq. 3 angle against the reference; no
+// tangent: never) into layer_, as offsets from the cell centre and residuals over `ref`:
+// the three passes of fit_layer read them, not the whole cell. Plain pointers in locals: the
+// ring's byte store would otherwise have every vector's pointer reloaded per candidate.
+void TerrainCells::gather_layer(const Fit& f, const Candidates& cand,
+                                const std::vector<std::int32_t>& bin_slot,
+                                const HeightPlane& ref) {
+  LayerPoints& l = layer_;
+  if (l.u.size() < cand.x.size()) {  // grows with the largest frame only
+    for (auto* v : {&l.u, &l.v, &l.r}) v->resize(cand.x.size());
+    l.ring.resize(cand.x.size());
+  }
+  const float *x = cand.x.data(), *y = cand.y.data(), *z = cand.z.data();
+  const float *tx = cand.tx.data(), *ty = cand.ty.data(), *tz = cand.tz.data();
+  const std::uint8_t* ring = cand.ring.data();
+  float *u = l.u.data(), *v = l.v.data(), *r = l.r.data();
+  std::uint8_t* ring_out = l.ring.data();
+  const Normal nr(ref);
+  const HeightPlane s = ref;
+  const float sin_delta = p_.sin_delta, xc = f.xc, yc = f.yc;
+  Index n = 0;
+  f.each(cand, bin_slot, p_.bins, [&](Index k) {
+    if (!(absolute(nr.x * tx[k] + nr.y * ty[k] + nr.z * tz[k]) < sin_delta)) return;
+    u[n] = x[k] - xc;
+    v[n] = y[k] - yc;
+    r[n] = z[k] - s.at(x[k], y[k]);
+    ring_out[n] = ring[k];
+    ++n;
+  });
+  l.n = n;
+}
+
 bool TerrainCells::fit_layer(int cell, const Candidates& cand,
                              const std::vector<std::int32_t>& bin_slot, const HeightPlane& ref,
-                             HeightPlane& out) const {
+                             HeightPlane& out) {
   const Fit f(p_, side_, cell);
-  const Normal n(ref);
-  auto usable = [&](Index k) {  // eq. 3 angle against the reference (no tangent: never)
-    return absolute(n.x * cand.tx[k] + n.y * cand.ty[k] + n.z * cand.tz[k]) < p_.sin_delta;
-  };
+  gather_layer(f, cand, bin_slot, ref);
+  const LayerPoints& l = layer_;
   // 1. The lowest dense layer of residuals within the window (lower envelope).
   std::uint16_t hist[kCellHist] = {};
   const int hist_bins =
       std::min(kCellHist, static_cast<int>((p_.window_down_m + p_.window_up_m) / kHistBin_m));
-  f.each(cand, bin_slot, p_.bins, [&](Index k) {
-    const float r = cand.z[k] - ref.at(cand.x[k], cand.y[k]) + p_.window_down_m;
-    if (r < 0.f || !usable(k)) return;
+  for (Index j = 0; j < l.n; ++j) {
+    const float r = l.r[j] + p_.window_down_m;
+    if (r < 0.f) continue;
     const int b = static_cast<int>(r / kHistBin_m);
     if (b < hist_bins) ++hist[b];
-  });
+  }
   const int first = densest_window(hist, hist_bins, kModeBins, kModeShare, kLayerMinPoints);
   if (first < 0) return false;
   // 2. Two least-squares corrections: around the layer, then around the first fit.
@@ -345,14 +391,13 @@ bool TerrainCells::fit_layer(int cell, const Candidates& cand,
   for (int pass = 0; pass < 2; ++pass) {
     CorrectionFit fit;
     rings = 0;
-    f.each(cand, bin_slot, p_.bins, [&](Index k) {
-      const double u = cand.x[k] - f.xc, v = cand.y[k] - f.yc;
-      const double r = cand.z[k] - ref.at(cand.x[k], cand.y[k]);
-      if (std::fabs(r - (corr[0] + corr[1] * u + corr[2] * v)) < p_.eps && usable(k)) {
+    for (Index j = 0; j < l.n; ++j) {
+      const double u = l.u[j], v = l.v[j], r = l.r[j];
+      if (std::fabs(r - (corr[0] + corr[1] * u + corr[2] * v)) < p_.eps) {
         fit.add(u, v, r);
-        rings |= 1u << (cand.ring[k] & 31u);
+        rings |= 1u << (l.ring[j] & 31u);
       }
-    });
+    }
     if (fit.n < p_.min_points) return false;
     const double ridge = kRidgeShare * fit.n * side_m * side_m / 12.0 + kRidgeFloor_m2;
     if (!fit.solve(ridge, corr)) return false;
@@ -516,6 +561,7 @@ void TerrainCells::fit(const Candidates& cand, const std::vector<std::int32_t>& 
     surface_[vehicle_cell_] = level1_at(p_.sensor_x, p_.sensor_y);
     return;
   }
+  count_candidates(cand, bin_slot);
   auto settle = [&](int cell, const HeightPlane& s, bool fitted) {
     const Fit f(p_, side_, cell);
     const HeightPlane own = level1_at(f.xc, f.yc);
@@ -619,11 +665,16 @@ void TerrainCells::relabel(const Cloud& cloud, const PointFacts& facts, const La
     const float dot = n[0] * t.x[i] + n[1] * t.y[i] + n[2] * t.z[i];
     return h < up && h > -rule.down && (t.valid[i] == 0 || absolute(dot) < rule.sin_label);
   };
-  for (Index i = 0; i < cloud.size(); ++i) {
-    const std::int32_t bin = facts.bin[i];
+  // Plain pointers in locals: the byte stores of labels would otherwise have them reloaded
+  // for every return, most of which lie in cells that keep their level-1 labels.
+  const std::int32_t *const bin_of = facts.bin, *const cell_of = cell_of_bin_.data();
+  const std::uint8_t* const replace = replace_.data();
+  const Index returns = cloud.size();
+  for (Index i = 0; i < returns; ++i) {
+    const std::int32_t bin = bin_of[i];
     if (bin < 0) continue;
-    const int cell = cell_of_bin_[idx(bin)];
-    if (replace_[idx(cell)] == 0) continue;
+    const int cell = cell_of[bin];
+    if (replace[cell] == 0) continue;
     float h = 0;
     bool is_ground = ground_by(cell, i, h);
     height[i] = h;

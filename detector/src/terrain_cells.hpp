@@ -108,9 +108,12 @@ class TerrainCells {
   bool fit_cell(int cell, const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
                 const HeightPlane& ref, float border_x, float border_y, HeightPlane& out);
   bool fit_layer(int cell, const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
-                 const HeightPlane& ref, HeightPlane& out) const;
+                 const HeightPlane& ref, HeightPlane& out);
+  void gather_layer(const Fit& f, const Candidates& cand,
+                    const std::vector<std::int32_t>& bin_slot, const HeightPlane& ref);
   bool search_cell(int cell, const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
                    const HeightPlane& ref, HeightPlane& out);
+  void count_candidates(const Candidates& cand, const std::vector<std::int32_t>& bin_slot);
   [[nodiscard]] bool close(int cell, const HeightPlane& a, const HeightPlane& b) const;
   void explained_segments(const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
                           const SegmentPlanes& level1);
@@ -125,6 +128,7 @@ class TerrainCells {
   std::vector<std::uint8_t> replace_;
   // The cell of every bin (row-major), made when the grid changes: no division per return.
   std::vector<std::int32_t> cell_of_bin_;
+  std::vector<std::int32_t> cell_candidates_;  // per cell: its scoring candidates
   int table_bins_ = 0, table_cell_bins_ = 0;
   std::vector<std::array<float, 3>> normal_;  // per cell: unit normal of its surface
   bool segment_explained_[4] = {false, false, false, false};
@@ -145,6 +149,14 @@ class TerrainCells {
   };
   NearPoints near_pts_;
   std::vector<std::int32_t> queue_, cell_pts_;
+  // fit_layer: a cell's candidates with a usable tangent, gathered once per fit: offsets
+  // u, v from the cell centre and residuals r over the reference; n of them.
+  struct LayerPoints {
+    std::vector<float> u, v, r;
+    std::vector<std::uint8_t> ring;
+    std::size_t n = 0;
+  };
+  LayerPoints layer_;
 };
 
 }  // namespace vlpground::detail
