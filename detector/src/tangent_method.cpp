@@ -261,19 +261,34 @@ class TangentMethod final : public Method {
     constexpr auto kGround = static_cast<std::uint8_t>(GroundLabel::ground);
     constexpr auto kObstacle = static_cast<std::uint8_t>(GroundLabel::obstacle);
     const Index layer_begin[3] = {0, strongest_end(cloud), cloud.size()};
+    // Arrays held in locals: a label is a byte store, which may alias anything, so members
+    // read through `this` would be reloaded at every return.
+    const std::uint32_t* const cell = cloud.cell.data();
+    const std::uint8_t* const ground = ground_.data();
+    const float* const over = height_.data();
     for (Index layer = 0; layer < 2; ++layer) {
       std::uint8_t* const label = out.label[layer].data();
       float* const height = out.height_m[layer].data();
-      for (Index i = layer_begin[layer]; i < layer_begin[layer + 1]; ++i) {
-        label[cloud.cell[i]] = labelled && ground_[i] != 0 ? kGround : kObstacle;
-        if (labelled) height[cloud.cell[i]] = height_[i];
+      const Index begin = layer_begin[layer], end = layer_begin[layer + 1];
+      if (!labelled) {
+        for (Index i = begin; i < end; ++i) label[cell[i]] = kObstacle;
+        continue;
+      }
+      for (Index i = begin; i < end; ++i) {
+        label[cell[i]] = ground[i] != 0 ? kGround : kObstacle;
+        height[cell[i]] = over[i];
       }
     }
+    if (cloud.twin.empty()) return;
     // A twin is the same echo in the last layer's cell (no distinct last return is there).
-    for (Index i = 0; i < layer_begin[1] && !cloud.twin.empty(); ++i) {
-      if (!cloud.has_twin(i)) continue;
-      out.label[1][cloud.cell[i]] = out.label[0][cloud.cell[i]];
-      if (labelled) out.height_m[1][cloud.cell[i]] = height_[i];
+    const std::uint8_t* const twin = cloud.twin.data();
+    const std::uint8_t* const first_label = out.label[0].data();
+    std::uint8_t* const last_label = out.label[1].data();
+    float* const last_height = out.height_m[1].data();
+    for (Index i = 0; i < layer_begin[1]; ++i) {
+      if (twin[i] == 0) continue;
+      last_label[cell[i]] = first_label[cell[i]];
+      if (labelled) last_height[cell[i]] = over[i];
     }
   }
 
@@ -296,11 +311,18 @@ class TangentMethod final : public Method {
     pp.label_down_m = label_down_;
     pp.steep_band_m = steep_up_;
     // Heights over a level-1 plane that explains its cell (fitting area only).
-    const std::vector<std::int32_t>& bin = binning_.point_bin();
     plane_height_.resize(cloud.size());
-    for (Index i = 0; i < cloud.size(); ++i) {
-      const bool trusted = with_cells && bin[i] >= 0 && !cells_.replaced_bin(bin[i]);
-      plane_height_[i] = trusted ? height_[i] : std::nanf("");
+    const float none = std::nanf("");
+    if (with_cells) {
+      // Without branches: whether a return has a bin is as unpredictable as its cell's fate.
+      const std::int32_t* const bin = binning_.point_bin().data();
+      const float* const over = height_.data();
+      for (Index i = 0; i < cloud.size(); ++i) {
+        const bool replaced = cells_.replaced_bin(std::max(bin[i], 0));
+        plane_height_[i] = bin[i] >= 0 && !replaced ? over[i] : none;
+      }
+    } else {
+      std::fill(plane_height_.begin(), plane_height_.end(), none);
     }
     profiles_.label(cloud, steep_.data(), plane_height_, pp, ground_, height_);
   }
