@@ -194,8 +194,9 @@ bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Ind
 }
 
 // Whether the ray of return `end`, rising over the sensor, passed on where the same ring's
-// ray in the next column met ground (`nearer`, closer by more than the ring's run gap) that
-// climbed from its column's last ground return more steeply than face_over_ray x its ray.
+// ray beside it (the ring's next return, `nearer`, fewer than sky_columns columns on, closer
+// by more than the ring's run gap) met ground that climbed from its column's last ground
+// return more steeply than face_over_ray x its ray.
 // Terrain does not let the one ray pass beside a face the other ray met: `end` is an object
 // seen past the face's end.
 bool ColumnProfiles::stopped_by_face(const Cloud& cloud, Index end, Index nearer) const {
