@@ -366,6 +366,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
   float gradient = 0.f;
   float gradient_r = 0.f;  // where the gradient holds (the start: level under the vehicle)
   bool blocked = false;  // an obstacle return since the last ground return
+  bool obstacle_seen = false;  // an obstacle return since the start
   int last_ring = -1;    // ring of the last ground return (-1: the start)
   // The farthest return of the rings below the current one, and of the current ring.
   float lower_far_r = 0.f, lower_far_z = 0.f, ring_far_r = 0.f, ring_far_z = 0.f;
@@ -432,6 +433,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // ring may take it where it runs on level with its ground on both sides (fill_shadows).
       if (q.ground == 0 && !vetoed) q.shadowed = kFoot;
       blocked = true;
+      obstacle_seen = true;
       continue;
     }
     if (advance < p_.min_advance_m) {  // over or under ground already walked
@@ -493,6 +495,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
                        ? kShadow
                        : 0;
       blocked = true;
+      obstacle_seen = true;
       continue;
     }
     q.ground = 1;
@@ -500,9 +503,10 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     q.rises_on = blocked && profile_size_ <= 2 && !(std::abs(q.level2_h) <= p_.single_rise_m) &&
                  rises_over_its_ray(k, end);
     q.kinked = step - gradient > p_.kink_gradient;
-    // The column's first return, ground level with the ground under the vehicle: that ground
-    // going on (rule 4 keeps it, whatever the level-2 surface says).
-    q.vehicle_ground = profile_size_ == 1 && !blocked &&
+    // Ground level with the ground under the vehicle, no obstacle before it in the column:
+    // that ground going on (rule 4 keeps it, whatever the level-2 surface says, when no
+    // ground is left before it: a bush in front taken by the walk, then as a silhouette).
+    q.vehicle_ground = !obstacle_seen &&
                        std::abs(z - start_z_) <= 0.5f * p_.single_rise_m;
     // The column's first ground return level with the start, and this one level with it
     // (nothing between): the vehicle's road going on.
@@ -674,9 +678,10 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
       const bool after = !bump && next < end && vouches_after &&
                          raised_over_level2(next, 0.5f * p_.single_rise_m);
       // Level with the ground return before it, or under it, the level-2 surface is what
-      // is off (a levee's shoulder over a cell fitted to the fields below). Before it the
-      // column has only the start: its first return must be level with the ground under the
-      // vehicle (not under it: a bush in the fields below a levee is).
+      // is off (a levee's shoulder over a cell fitted to the fields below). With no ground
+      // return before it, the column has only the start: the return must be level with the
+      // ground under the vehicle (not under it: a bush in the fields below a levee is), no
+      // obstacle before it (past a car, a roof may be level with the road).
       const bool level = previous < end
                              ? points_[k].z - points_[previous].z <= 0.5f * p_.single_rise_m
                              : points_[k].vehicle_ground != 0;

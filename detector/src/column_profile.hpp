@@ -144,7 +144,8 @@ class ColumnProfiles {
     std::uint8_t rises_on = 0;  // resumed as ground over the sensor (rises_over_its_ray)
     // Taken as ground bending the profile's gradient up by more than kink_gradient.
     std::uint8_t kinked = 0;
-    std::uint8_t vehicle_ground = 0;  // the column's first return, level with the start
+    // Level with the start, no obstacle before it in the column (the vehicle's ground).
+    std::uint8_t vehicle_ground = 0;
     // ... and the cloud index of the column's next ground return when that goes on level
     // from it (a higher ring, nothing between): the road the vehicle stands on, seen by two
     // rings, unless that return stands out itself (remove_silhouettes).

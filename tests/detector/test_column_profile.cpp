@@ -455,6 +455,36 @@ TEST_CASE("column profiles: a column's first return level with the vehicle's gro
   CHECK(first(true, 0.1f) == 0);     // past a car: something else at that height (a roof)
 }
 
+TEST_CASE("column profiles: the vehicle's ground past a bush taken, then dropped, stays ground",
+          "[detector][profiles]") {
+  // Sim embankment (seed 3, 5 Hz): ring 0 meets a bush on the levee's road 0.35 m high at
+  // 5.8 m, which the walk takes (a gentle rise from the start) and which then stands out as
+  // a silhouette; ring 1 sees the road past it at 8.4 m, level with the start, 1.9 m over
+  // the level-2 cell fitted to the fields; ring 2 is on the fields. No ground is left before
+  // ring 1's return and no obstacle was refused before it: the vehicle's ground going on.
+  // Beside the bush (columns 0-1 and 5-6) ring 0 meets the road at 7.3 m.
+  Scan s;
+  std::vector<float> level2;
+  const auto bush = [](int col) { return col >= 2 && col <= 4; };
+  for (int col = 0; col <= 6; ++col) {
+    add(s, 0, col, bush(col) ? 5.8f : 7.3f, bush(col) ? 0.35f : -0.03f, bush(col) ? 2 : 1);
+    level2.push_back(bush(col) ? 2.25f : 0.f);
+  }
+  for (int col = 0; col <= 6; ++col) {
+    add(s, 1, col, 8.4f, -0.04f, 1);
+    level2.push_back(bush(col) ? 1.86f : 0.f);
+  }
+  for (int col = 0; col <= 6; ++col) {
+    add(s, 2, col, 19.7f, -1.9f, 1);
+    level2.push_back(0.f);
+  }
+  const auto ground = label(s, level2).ground;
+  for (std::size_t i = 0; i < ground.size(); ++i) {
+    INFO("ring " << s.cloud.ring[i] << " column " << s.cloud.column[i]);
+    CHECK(ground[i] == (s.truth[i] == 1 ? 1 : 0));
+  }
+}
+
 TEST_CASE("column profiles: a ring grazing a levee's side under the vehicle's ground is ground",
           "[detector][profiles]") {
   // Ring 0 over 41 columns 1 degree apart runs down a levee's side from 0.2 m to 1.0 m
