@@ -56,6 +56,7 @@ void ColumnProfiles::find_ring_runs(const Cloud& cloud, Index strongest_end) {
   const RingRuns rows = point_ring_runs(cloud, 0, strongest_end);
   for (int ring = 0; ring < kLasers; ++ring) {
     const Index first = rows[static_cast<Index>(ring)], last = rows[static_cast<Index>(ring) + 1];
+    const Index first_run = runs_.size();
     Index a = first;
     while (a < last) {
       Index b = a;
@@ -63,7 +64,25 @@ void ColumnProfiles::find_ring_runs(const Cloud& cloud, Index strongest_end) {
       runs_.push_back({first, last, a, b});
       a = b + 1;
     }
+    const Index last_run = runs_.size() - 1;
+    if (first < last && last_run > first_run && continuous_across_edge(cloud, last - 1, first)) {
+      runs_[first_run].wrap = last_run;
+      runs_[last_run].wrap = first_run;
+    }
   }
+}
+
+// Whether the ring's last return (`end`, at the frame's last columns) and its first
+// (`start`, at the first columns) are continuous across the frame's edge: within
+// run_column_gap columns of each other around the rotation, and close in range, height and
+// position (a frame that is not a whole rotation leaves them far apart).
+bool ColumnProfiles::continuous_across_edge(const Cloud& cloud, Index end, Index start) const {
+  const int columns = static_cast<int>(column_start_.size()) - 1;
+  const int gap = static_cast<int>(cloud.column[start]) + columns - static_cast<int>(cloud.column[end]);
+  const float limit = p_.run_gap_m + p_.run_gap_per_m * cloud.range_xy[end];
+  const float dr = cloud.range_xy[start] - cloud.range_xy[end], dz = cloud.z[start] - cloud.z[end];
+  return gap <= p_.run_column_gap && dr * dr + dz * dz <= limit * limit &&
+         !apart(cloud, end, start, limit);
 }
 
 // Terrain seen by a ring is a long continuous curve: a short run whose both ends border the
@@ -74,28 +93,57 @@ void ColumnProfiles::find_ring_runs(const Cloud& cloud, Index strongest_end) {
 void ColumnProfiles::remove_silhouettes(const Cloud& cloud) {
   stands_out_.assign(cloud.size(), 0);
   for (const RingRun& run : runs_) {
-    if (!stands_out(cloud, run.first, run.last, run.a, run.b)) continue;
-    std::fill(stands_out_.begin() + static_cast<std::ptrdiff_t>(run.a),
-              stands_out_.begin() + static_cast<std::ptrdiff_t>(run.b) + 1, std::uint8_t{1});
+    // A run going on across the frame's edge is judged whole, from its part before the edge
+    // (the ring's last run) to its part after it (the ring's first run).
+    if (run.wrap != kNoRun && run.a != run.first) continue;
+    const RingRun* before = run.wrap != kNoRun ? &runs_[run.wrap] : nullptr;
+    const Index outer_a = before != nullptr ? before->a : run.a;
+    if (before != nullptr && !under_half_turn(cloud, before->a, run.b)) continue;
+    if (!stands_out(cloud, run.first, run.last, outer_a, run.b)) continue;
+    for (const RingRun* part : {before, &run}) {
+      if (part == nullptr) continue;
+      std::fill(stands_out_.begin() + static_cast<std::ptrdiff_t>(part->a),
+                stands_out_.begin() + static_cast<std::ptrdiff_t>(part->b) + 1, std::uint8_t{1});
+    }
   }
   for (const RingRun& run : runs_) {
-    const Index a = run.a, b = run.b;
-    if (stands_out_[a] == 0) continue;
-    // A run carrying the road the vehicle stands on (its column's first return level with
-    // the start, the next ground return of the column going on level behind it and not
-    // standing out) over shadow_anchor_m of the ring is that road seen over a short stretch
-    // (the vehicle near a levee's edge, a car beside it), not an object: the next ring
-    // passes over a tree crown level with the road to the fields, or meets the crown again,
-    // standing out as well; over a low object a higher ring sees the road only in its gaps.
-    Index road_first = b + 1, road_last = a;
-    for (Index i = a; i <= b; ++i) {
+    if (stands_out_[run.a] == 0 || (run.wrap != kNoRun && run.a != run.first)) continue;
+    remove_silhouette(cloud, run, run.wrap != kNoRun ? &runs_[run.wrap] : nullptr);
+  }
+}
+
+// Whether a run from return a (before the frame's edge) to b (after it) covers less than
+// half the frame's columns: its extent, the chord between its ends, then measures it (a ring
+// seen all around but for a gap has close ends too).
+bool ColumnProfiles::under_half_turn(const Cloud& cloud, Index a, Index b) const {
+  const int columns = static_cast<int>(column_start_.size()) - 1;
+  const int span = static_cast<int>(cloud.column[b]) + columns - static_cast<int>(cloud.column[a]);
+  return 2 * span < columns;
+}
+
+// The run standing out (with its part before the frame's edge, if any) is an object unless
+// it carries the road the vehicle stands on (its column's first return level with the start,
+// the next ground return of the column going on level behind it and not standing out) over
+// shadow_anchor_m of the ring: that road seen over a short stretch (the vehicle near a
+// levee's edge, a car beside it), not an object: the next ring passes over a tree crown level
+// with the road to the fields, or meets the crown again, standing out as well; over a low
+// object a higher ring sees the road only in its gaps.
+void ColumnProfiles::remove_silhouette(const Cloud& cloud, const RingRun& run, const RingRun* before) {
+  constexpr Index kNone = ~Index{0};
+  Index road_first = kNone, road_last = kNone;
+  for (const RingRun* part : {before, &run}) {
+    if (part == nullptr) continue;
+    for (Index i = part->a; i <= part->b; ++i) {
       const std::uint32_t beyond = points_[position_[i]].road_beyond;
       if (beyond == kNoPoint || stands_out_[beyond] != 0) continue;
-      road_first = std::min(road_first, i);
+      if (road_first == kNone) road_first = i;
       road_last = i;
     }
-    if (road_first <= b && apart(cloud, road_first, road_last, p_.shadow_anchor_m)) continue;
-    for (Index i = a; i <= b; ++i) points_[position_[i]].ground = 0;
+  }
+  if (road_first != kNone && apart(cloud, road_first, road_last, p_.shadow_anchor_m)) return;
+  for (const RingRun* part : {before, &run}) {
+    if (part == nullptr) continue;
+    for (Index i = part->a; i <= part->b; ++i) points_[position_[i]].ground = 0;
   }
 }
 

@@ -197,10 +197,18 @@ class ColumnProfiles {
   std::vector<std::uint32_t> refuted_;  // column points to drop (drop_refuted_rises)
   std::vector<std::uint8_t> stands_out_;     // in a run standing out (remove_silhouettes)
   std::vector<std::uint8_t> continuous_;     // with the next return (mark_continuous)
-  // A run [a, b] of returns continuous along a ring whose returns are [first, last).
+  // A run [a, b] of returns continuous along a ring whose returns are [first, last). A ring
+  // is a closed curve that the frame's edge cuts: the ring's first run goes on from its last
+  // run across the edge when their ends are continuous (wrap: the other run's index).
+  static constexpr std::size_t kNoRun = ~std::size_t{0};
   struct RingRun {
     std::size_t first, last, a, b;
+    std::size_t wrap = kNoRun;
   };
+  [[nodiscard]] bool continuous_across_edge(const Cloud& cloud, std::size_t end,
+                                            std::size_t start) const;
+  [[nodiscard]] bool under_half_turn(const Cloud& cloud, std::size_t a, std::size_t b) const;
+  void remove_silhouette(const Cloud& cloud, const RingRun& run, const RingRun* before);
   std::vector<RingRun> runs_;  // every ring's runs (strongest layer), in ring order
 };
 

@@ -772,3 +772,44 @@ TEST_CASE("column profiles: a rising ray passing on beside a face the next colum
   // the terrain did not rise to meet the ray 26 m out.
   CHECK(bush_ground(4.f) == 10);
 }
+
+TEST_CASE("column profiles: a ring is a closed curve across the frame's edge",
+          "[detector][profiles]") {
+  // Sim slope (seed 2): a low object 35 m straight ahead, where the frame's edge cuts the
+  // rotation, 0.8 m over ground that falls away past a grade change; ring 6 meets it over
+  // columns 357-359 and 0-2 only, level enough with ring 5's road at 22.7 m for the walk to
+  // take it, and passes on to ground 55 m out on both sides of it. Judged whole across the
+  // edge, its run stands out (rule 5).
+  const auto scan = [](bool object) {
+    Scan s;
+    const auto ahead = [](int col) { return col >= kColumns - 3 || col <= 2; };
+    for (int ring = 4; ring <= 6; ++ring) {
+      for (int col = 0; col < kColumns; ++col) {
+        if (ring == 6 && object && ahead(col)) {
+          add(s, ring, col, 35.f, 0.1f, 2);
+        } else {
+          const float r = ring == 4 ? 16.f : ring == 5 ? 22.7f : 55.f;
+          add(s, ring, col, r, ring == 6 ? -1.f : 0.f, 1);
+        }
+      }
+    }
+    return s;
+  };
+  const Scan s = scan(true);
+  const auto ground = label(s).ground;
+  for (std::size_t i = 0; i < ground.size(); ++i) {
+    INFO("ring " << s.cloud.ring[i] << " column " << s.cloud.column[i]);
+    if (s.truth[i] == 2) CHECK(ground[i] == 0);
+  }
+  // A ring seen all around but for a gap behind (the vehicle's own body) has close ends
+  // too: judged by the chord between them it would stand out; it covers more than half a
+  // turn, so it does not.
+  Scan ring0;
+  for (int col = 0; col < kColumns; ++col) {
+    if (col < 170 || col > 190) add(ring0, 0, col, 6.f, 0.f, 1);
+  }
+  const auto road = label(ring0).ground;
+  int taken = 0;
+  for (const std::uint8_t g : road) taken += g;
+  CHECK(taken == static_cast<int>(road.size()));
+}
