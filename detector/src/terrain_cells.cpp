@@ -39,13 +39,9 @@ constexpr int kBelowPenalty = 2;
 constexpr int kSearchRings = 3;
 constexpr float kSingleRingOffset_m = 0.25f;  // fit_layer: largest step on a single ring
 constexpr float kFewRingsFrom = 2.f;  // beyond this many near_m, two rings (the reach of the rings)
-constexpr int kSeedRings =
-    3;  // vehicle_seed: rings among the inliers        // search_cell: rings among the inliers
-constexpr float kLayerBorderStep_m = 0.5f;  // ... for a correction of the reference
-constexpr float kBorderStep_m = 0.25f;      // largest step to the reference where they meet     //
-                                            // within this of a cell edge the neighbour may accept
-
-float absolute(float v) { return v < 0 ? -v : v; }
+constexpr int kSeedRings = 3;  // rings among the inliers (vehicle_seed, search_cell)
+constexpr float kBorderStep_m = 0.25f;      // largest step to the reference where they meet
+constexpr float kLayerBorderStep_m = 0.5f;  // ... for a correction of the reference (fit_layer)
 
 int segment_at(float x, float y, float cx, float cy) {
   return static_cast<int>(x >= cx) + 2 * static_cast<int>(y >= cy);
@@ -236,7 +232,7 @@ bool TerrainCells::close(int cell, const HeightPlane& a, const HeightPlane& b) c
   const float hy = 0.5f * static_cast<float>(f.r1 - f.r0) * p_.bin_m;
   for (int k = 0; k < 4; ++k) {
     const float x = f.xc + ((k & 1) != 0 ? hx : -hx), y = f.yc + ((k & 2) != 0 ? hy : -hy);
-    if (absolute(a.at(x, y) - b.at(x, y)) >= p_.keep_m) return false;
+    if (std::abs(a.at(x, y) - b.at(x, y)) >= p_.keep_m) return false;
   }
   return true;
 }
@@ -250,7 +246,7 @@ bool TerrainCells::fit_cell(int cell, const Candidates& cand,
   // Continuous with the reference where the two meet (the border with the cell it came
   // from): a roof, a wall top or a barrier is a step there.
   auto continuous = [&](const HeightPlane& h, float step) {
-    return absolute(h.at(border_x, border_y) - ref.at(border_x, border_y)) <= step;
+    return std::abs(h.at(border_x, border_y) - ref.at(border_x, border_y)) <= step;
   };
   return (fit_layer(cell, cand, bin_slot, ref, out) && continuous(out, kLayerBorderStep_m)) ||
          (search_cell(cell, cand, bin_slot, ref, out) && continuous(out, kBorderStep_m));
@@ -265,7 +261,7 @@ bool TerrainCells::search_cell(int cell, const Candidates& cand,
                                HeightPlane& out) {
   const Fit f(p_, side_, cell);
   const float side_m = static_cast<float>(p_.cell_bins) * p_.bin_m;
-  const float reach = 0.5f * side_m * (absolute(p_.search_gradient_change) * 1.5f);
+  const float reach = 0.5f * side_m * (std::abs(p_.search_gradient_change) * 1.5f);
   cell_pts_.clear();
   cell_pts_.reserve(cand.x.size());
   f.each(cand, bin_slot, p_.bins, [&](Index k) {
@@ -275,10 +271,10 @@ bool TerrainCells::search_cell(int cell, const Candidates& cand,
   });
   if (static_cast<int>(cell_pts_.size()) < p_.min_points) return false;
   auto allowed = [&](const HeightPlane& h) {
-    if (absolute(h.gx - ref.gx) > p_.search_gradient_change ||
-        absolute(h.gy - ref.gy) > p_.search_gradient_change)
+    if (std::abs(h.gx - ref.gx) > p_.search_gradient_change ||
+        std::abs(h.gy - ref.gy) > p_.search_gradient_change)
       return false;
-    if (absolute(h.gx) > p_.max_gradient || absolute(h.gy) > p_.max_gradient) return false;
+    if (std::abs(h.gx) > p_.max_gradient || std::abs(h.gy) > p_.max_gradient) return false;
     return true;
   };
   auto net_score = [&](const Plane& pl, PlaneFit* fit, std::uint32_t* rings) {
@@ -353,7 +349,7 @@ void TerrainCells::gather_layer(const Fit& f, const Candidates& cand,
   const float sin_delta = p_.sin_delta, xc = f.xc, yc = f.yc;
   Index n = 0;
   f.each(cand, bin_slot, p_.bins, [&](Index k) {
-    if (!(absolute(nr.x * tx[k] + nr.y * ty[k] + nr.z * tz[k]) < sin_delta)) return;
+    if (!(std::abs(nr.x * tx[k] + nr.y * ty[k] + nr.z * tz[k]) < sin_delta)) return;
     u[n] = x[k] - xc;
     v[n] = y[k] - yc;
     r[n] = z[k] - s.at(x[k], y[k]);
@@ -410,9 +406,9 @@ bool TerrainCells::fit_layer(int cell, const Candidates& cand,
   const float offset_limit = p_.offset_m + p_.offset_per_m * side_m;
   const float up_limit = std::popcount(rings) < 2 ? kSingleRingOffset_m : offset_limit;
   if (a > up_limit || a < -offset_limit) return false;
-  if (absolute(b) > p_.gradient_change || absolute(c) > p_.gradient_change) return false;
+  if (std::abs(b) > p_.gradient_change || std::abs(c) > p_.gradient_change) return false;
   out = {ref.c + a - b * f.xc - c * f.yc, ref.gx + b, ref.gy + c};
-  return absolute(out.gx) <= p_.max_gradient && absolute(out.gy) <= p_.max_gradient;
+  return std::abs(out.gx) <= p_.max_gradient && std::abs(out.gy) <= p_.max_gradient;
 }
 
 namespace {
@@ -427,7 +423,7 @@ int score_near(const float* __restrict x, const float* __restrict y, const float
   for (Index i = 0; i < n; ++i) {
     const float dist = p.nx * x[i] + p.ny * y[i] + p.nz * z[i] + p.d;
     const float dot = p.nx * tx[i] + p.ny * ty[i] + p.nz * tz[i];
-    const bool inlier = (absolute(dist) < eps) & (absolute(dot) < sin_delta);
+    const bool inlier = (std::abs(dist) < eps) & (std::abs(dot) < sin_delta);
     count += static_cast<int>(inlier) - kBelowPenalty * static_cast<int>(dist < -kBelow_m);
   }
   return count;
@@ -461,7 +457,7 @@ bool TerrainCells::plausible_under_sensor(const Plane& p) const {
 bool TerrainCells::at_mounting_height(const Plane& p) const {
   if (!mounting_height_known(p_.sensor_z, p_.min_sensor_height_m)) return true;
   const float under = p.nx * p_.sensor_x + p.ny * p_.sensor_y + p.nz * p_.sensor_z + p.d;
-  return absolute(under - p_.sensor_z) <= kMountingTolerance * p_.sensor_z;
+  return std::abs(under - p_.sensor_z) <= kMountingTolerance * p_.sensor_z;
 }
 
 // The ground the vehicle stands on: the level-1 plane when it explains the returns around
@@ -663,7 +659,7 @@ void TerrainCells::relabel(const Cloud& cloud, const PointFacts& facts, const La
     h = (cloud.z[i] - s.at(cloud.x[i], cloud.y[i])) * n[2];  // distance along the normal
     const float up = facts.steep[i] != 0 ? std::min(rule.up, rule.steep_up) : rule.up;
     const float dot = n[0] * t.x[i] + n[1] * t.y[i] + n[2] * t.z[i];
-    return h < up && h > -rule.down && (t.valid[i] == 0 || absolute(dot) < rule.sin_label);
+    return h < up && h > -rule.down && (t.valid[i] == 0 || std::abs(dot) < rule.sin_label);
   };
   // Plain pointers in locals: the byte stores of labels would otherwise have them reloaded
   // for every return, most of which lie in cells that keep their level-1 labels.
