@@ -97,8 +97,8 @@ struct NoTangent {
   [[nodiscard]] static float z(Index) { return kNoTangentZ; }
 };
 
-// Whether any plane of the block passes eq. 3's line 2 with t = (0, 0, kNoTangentZ) (only
-// planes steeper than about 75 degrees can).
+// Whether any plane of the block passes eq. 3's line 2 with t = (0, 0, kNoTangentZ): only a
+// near-vertical one can (|nz| < sin(delta) / kNoTangentZ, 88 degrees for delta = 10).
 inline bool bare_may_fit(const Block& b, const ScoreParams& p) {
   bool any = false;
   for (Index j = 0; j < kBlock; ++j) {
