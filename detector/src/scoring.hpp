@@ -35,15 +35,7 @@ class SlotScorer {
              std::vector<std::int32_t>& scores);
 
  private:
-  // Each slot's candidates in two groups (counts do not depend on the order): those with a
-  // tangent, and those without (t = (0, 0, kNoTangentZ), whose eq. 3 angle test is the same
-  // for every one of them, so that only their distance to each plane is computed).
-  void split(const Candidates& c);
-
   PlaneSet padded_;  // planes padded to whole blocks with planes that never score
-  Candidates with_;  // candidates with a tangent, by slot
-  std::vector<float> bare_x_, bare_y_, bare_z_;  // candidates without one
-  std::vector<std::int32_t> bare_start_;          // ... slot s: [bare_start_[s], [s + 1])
 };
 
 /// Plain per-point, per-plane form of score_slots, for tests.
