@@ -40,10 +40,13 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   for (Index c = 0; c < columns; ++c) {
     drop_raised_groups(column_start_[c], column_start_[c + 1]);
     check_single_rises(column_start_[c], column_start_[c + 1]);
-    for (Index k = column_start_[c]; k < column_start_[c + 1]; ++k) {  // the column's labels
-      ground[points_[k].index] = points_[k].ground;
-      shadowed_[points_[k].index] = points_[k].shadowed;
-    }
+  }
+  // The labels, by cloud point; arrays in locals (a byte store may alias any member).
+  const ColumnPoint* const points = points_.data();
+  std::uint8_t *const labels = ground.data(), *const shadowed = shadowed_.data();
+  for (Index k = 0; k < points_.size(); ++k) {
+    labels[points[k].index] = points[k].ground;
+    shadowed[points[k].index] = points[k].shadowed;
   }
   for (const RingRun& run : runs_) fill_shadows(cloud, run.a, run.b + 1, ground);
 }

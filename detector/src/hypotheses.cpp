@@ -38,13 +38,25 @@ bool tangent_fits(const LowPoints& low, std::size_t i, const Plane& p, float sin
   return std::abs(p.nx * low.tx[i] + p.ny * low.ty[i] + p.nz * low.tz[i]) < sin_delta;
 }
 
-// A low point of a bin within `reach` bins of (col, row), or -1.
+// A draw in [0, span): Rng::below, with the default reach's span as a constant divisor,
+// which the compiler turns into a multiplication (the same value, without a 64-bit division).
+std::size_t offset_draw(Rng& rng, std::size_t span) {
+  constexpr auto kDefaultSpan = static_cast<std::size_t>(2 * SamplingParams{}.neighbour_bins + 1);
+  return span == kDefaultSpan ? rng.below(kDefaultSpan) : rng.below(span);
+}
+
+// A low point of a bin within `reach` bins of (col, row), or -1. Always two draws (column,
+// row); the row's is only stepped over when the column is off the grid.
 std::int32_t neighbour(const LowPoints& low, const SamplingParams& sp, Rng& rng, int col, int row) {
   const int reach = sp.neighbour_bins;
   const auto span = static_cast<std::size_t>(2 * reach + 1);
-  const int c = col + static_cast<int>(rng.below(span)) - reach;
-  const int r = row + static_cast<int>(rng.below(span)) - reach;
-  if (c < 0 || r < 0 || c >= sp.bins || r >= sp.bins) return -1;
+  const int c = col + static_cast<int>(offset_draw(rng, span)) - reach;
+  if (c < 0 || c >= sp.bins) {
+    rng.skip(1);
+    return -1;
+  }
+  const int r = row + static_cast<int>(offset_draw(rng, span)) - reach;
+  if (r < 0 || r >= sp.bins) return -1;
   return low.slot_of_bin[static_cast<std::size_t>(r * sp.bins + c)];
 }
 
@@ -60,8 +72,12 @@ void sample_hypotheses(const LowPoints& low, const SamplingParams& sp, PlaneSet&
        ++attempt) {
     const std::size_t i0 = rng.below(n);
     const std::int32_t i1 = neighbour(low, sp, rng, low.col[i0], low.row[i0]);
+    if (i1 < 0) {
+      rng.skip(2);  // the third point's draws, which would go unused
+      continue;
+    }
     const std::int32_t i2 = neighbour(low, sp, rng, low.col[i0], low.row[i0]);
-    if (i1 < 0 || i2 < 0) continue;
+    if (i2 < 0) continue;
     const std::size_t idx[3] = {i0, static_cast<std::size_t>(i1), static_cast<std::size_t>(i2)};
     float pts[3][3];
     for (int k = 0; k < 3; ++k) {

@@ -30,6 +30,8 @@ class Rng {
   }
   /// Uniform-ish integer in [0, n) (modulo bias is negligible for n << 2^64).
   std::size_t below(std::size_t n) { return static_cast<std::size_t>(next() % n); }
+  /// Steps over `draws` draws whose values would go unused (the state only counts them).
+  void skip(std::uint64_t draws) { state_ += draws * 0x9E3779B97F4A7C15ull; }
 
  private:
   std::uint64_t state_;

@@ -82,6 +82,14 @@ inline float grow_at(const Lanes& in, Index i, const LabelRule& r) {
   return r.growth * (range_out > 0.f ? range_out : 0.f);
 }
 
+// Marks a return its own plane refused within soft_m of a partition line, for
+// label_near_lines (a label is 0 or 1 once that has run).
+constexpr std::uint8_t kNearLine = 2;
+
+inline bool near_line(float v, float line, const LabelRule& r) {
+  return absolute(v - line) < r.soft_m;
+}
+
 VLPGROUND_VECTOR_CLONES
 void label_kernel(const Lanes in, Index n, const SegmentPlanes& sp, const LabelRule r,
                   std::uint8_t* __restrict ground_out, float* __restrict height_out) {
@@ -90,22 +98,25 @@ void label_kernel(const Lanes in, Index n, const SegmentPlanes& sp, const LabelR
     const PlanePick p(sp, segment_at(x, y, sp.cx, sp.cy));
     const float h = p.nx * x + p.ny * y + p.nz * z + p.d;
     const float dot = p.nx * in.tx[i] + p.ny * in.ty[i] + p.nz * in.tz[i];
-    ground_out[i] = static_cast<std::uint8_t>(
-        ground_by(h, dot, up_limit(in, i, r), grow_at(in, i, r), in.valid[i] != 0, r));
+    const bool ground =
+        ground_by(h, dot, up_limit(in, i, r), grow_at(in, i, r), in.valid[i] != 0, r);
+    const bool near = near_line(x, sp.cx, r) | near_line(y, sp.cy, r);
+    ground_out[i] = static_cast<std::uint8_t>(ground ? 1 : near ? kNearLine : 0);
     height_out[i] = h;
   }
 }
 
-// Near a partition line the planes across it may accept a return its own plane refused,
-// tried in this order. Planes and rule by value: the byte stores of labels would otherwise
-// have the partition centre and the rule reloaded for every return.
+// Near a partition line the planes across it may accept a return its own plane refused
+// (marked kNearLine by label_kernel), tried in this order. Planes and rule by value: the byte
+// stores of labels would otherwise have the partition centre and the rule reloaded for every
+// return.
 void label_near_lines(const Lanes in, Index n, const SegmentPlanes sp, const LabelRule r,
                       std::uint8_t* ground, float* height) {
   for (Index i = 0; i < n; ++i) {
-    if (ground[i] != 0) continue;
+    if (ground[i] != kNearLine) continue;
+    ground[i] = 0;
     const float x = in.x[i], y = in.y[i], z = in.z[i];
-    const bool near_x = absolute(x - sp.cx) < r.soft_m, near_y = absolute(y - sp.cy) < r.soft_m;
-    if (!near_x && !near_y) continue;
+    const bool near_x = near_line(x, sp.cx, r), near_y = near_line(y, sp.cy, r);
     const int own = segment_at(x, y, sp.cx, sp.cy);
     for (int flip = 1; flip < 4; ++flip) {
       if (((flip & 1) != 0 && !near_x) || ((flip & 2) != 0 && !near_y)) continue;

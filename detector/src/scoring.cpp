@@ -36,14 +36,16 @@ struct Kernel {
 // differs from v < 0 ? -v : v on -0, and compares the same.
 VLPGROUND_VECTOR_CLONES
 void score_all(const Kernel q, const ScoreParams p, std::int32_t* __restrict scores) {
-  for (Index s = 0; s < q.slots; ++s) {
-    const auto begin = static_cast<Index>(q.start[s]), end = static_cast<Index>(q.start[s + 1]);
-    std::int32_t* row = scores + s * q.m_count;
-    for (Index m0 = 0; m0 < q.m_count; m0 += kBlock) {
-      const float* __restrict nx = q.nx + m0;
-      const float* __restrict ny = q.ny + m0;
-      const float* __restrict nz = q.nz + m0;
-      const float* __restrict d = q.d + m0;
+  // Block by block over every slot: the block's plane coefficients stay in registers while
+  // all the candidates stream past, slot by slot.
+  for (Index m0 = 0; m0 < q.m_count; m0 += kBlock) {
+    const float* __restrict nx = q.nx + m0;
+    const float* __restrict ny = q.ny + m0;
+    const float* __restrict nz = q.nz + m0;
+    const float* __restrict d = q.d + m0;
+    const Index lanes = std::min(kBlock, q.m_count - m0);
+    for (Index s = 0; s < q.slots; ++s) {
+      const auto begin = static_cast<Index>(q.start[s]), end = static_cast<Index>(q.start[s + 1]);
       std::array<std::int32_t, kBlock> inliers{}, under{};
       for (Index k = begin; k < end; ++k) {
         const float x = q.x[k], y = q.y[k], z = q.z[k], tx = q.tx[k], ty = q.ty[k], tz = q.tz[k];
@@ -54,8 +56,8 @@ void score_all(const Kernel q, const ScoreParams p, std::int32_t* __restrict sco
           under[j] += dist < p.below;
         }
       }
-      const Index lanes = std::min(kBlock, q.m_count - m0);
-      for (Index j = 0; j < lanes; ++j) row[m0 + j] = inliers[j] - p.penalty * under[j];
+      std::int32_t* row = scores + s * q.m_count + m0;
+      for (Index j = 0; j < lanes; ++j) row[j] = inliers[j] - p.penalty * under[j];
     }
   }
 }

@@ -173,12 +173,18 @@ class TangentMethod final : public Method {
     find_support(cloud, facts(), segment_planes(out, true), band, sin_delta_, support_);
     PlaneFit fits[4];
     std::uint32_t rings[4] = {0, 0, 0, 0};  // rings contributing inliers, one bit each
-    for (Index i = 0; i < cloud.size(); ++i) {
-      const int s = support_[i];
+    // Arrays in locals, read once per frame (only a deduplicated cloud has twins).
+    const std::uint8_t* const support = support_.data();
+    const float *const x = cloud.x.data(), *const y = cloud.y.data(), *const z = cloud.z.data();
+    const std::uint16_t* const ring = cloud.ring.data();
+    const std::uint8_t* const twin = cloud.deduplicated ? cloud.twin.data() : nullptr;
+    const Index n = cloud.size();
+    for (Index i = 0; i < n; ++i) {
+      const int s = support[i];
       if (s > 3) continue;
       // A twin stands for the last return's cell too: both echoes weigh in.
-      fits[s].add(cloud.x[i], cloud.y[i], cloud.z[i], cloud.has_twin(i) ? 2 : 1);
-      rings[s] |= 1u << (cloud.ring[i] & 31u);
+      fits[s].add(x[i], y[i], z[i], twin != nullptr && twin[i] != 0 ? 2 : 1);
+      rings[s] |= 1u << (ring[i] & 31u);
     }
     const float min_nz = std::cos(static_cast<float>(cfg_.max_tilt_deg) * kDegToRad);
     out.total_inliers = 0;
@@ -279,7 +285,8 @@ class TangentMethod final : public Method {
         height[cell[i]] = over[i];
       }
     }
-    if (cloud.twin.empty()) return;
+    // Only a deduplicated cloud has twins (a single-return frame's are all 0).
+    if (!cloud.deduplicated || cloud.twin.empty()) return;
     // A twin is the same echo in the last layer's cell (no distinct last return is there).
     const std::uint8_t* const twin = cloud.twin.data();
     const std::uint8_t* const first_label = out.label[0].data();

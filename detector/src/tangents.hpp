@@ -25,6 +25,7 @@ struct Tangents {
   std::vector<float> x, y, z;
   std::vector<std::uint8_t> valid;
   std::vector<std::uint16_t> step;  // scratch: fast-path column step per point
+  std::vector<std::uint32_t> before, after;  // scratch: each point's neighbours along its row
 };
 
 inline constexpr float kNoTangentZ = 4.0f;

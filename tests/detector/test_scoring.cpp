@@ -71,3 +71,31 @@ TEST_CASE("blocked slot scores equal the per-point eq. 3 rule", "[detector][scor
   CHECK(positive > 0);
   CHECK(negative < 0);
 }
+
+TEST_CASE("slot scores equal the per-point rule for planes steep enough that returns without a "
+          "tangent pass the angle test",
+          "[detector][scoring]") {
+  ScoreParams params;
+  params.eps = 0.2f;
+  params.sin_delta = std::sin(10.f * static_cast<float>(M_PI) / 180.f);
+  SlotScorer scorer;
+  Candidates c;
+  PlaneSet p;
+  random_input(3, 60, 17, c, p);
+  // Walls through the candidates: |n.(0, 0, kNoTangentZ)| < sin(delta) for most of them.
+  Rng rng(4);
+  for (std::size_t m = 0; m < p.size(); m += 2) {
+    const float nz = uniform(rng, 0.f, 0.04f), nx = std::sqrt(1 - nz * nz);
+    p.nx[m] = nx;
+    p.ny[m] = 0.f;
+    p.nz[m] = nz;
+    p.d[m] = uniform(rng, -20, 20);
+  }
+  std::vector<std::int32_t> fast, plain;
+  scorer.score(c, p, params, fast);
+  score_reference(c, p, params, plain);
+  CHECK(fast == plain);
+  std::int64_t inliers = 0;
+  for (std::int32_t v : plain) inliers += v > 0 ? v : 0;
+  CHECK(inliers > 0);
+}
