@@ -109,9 +109,48 @@ void ColumnProfiles::remove_silhouettes(const Cloud& cloud) {
                 stands_out_.begin() + static_cast<std::ptrdiff_t>(part->b) + 1, std::uint8_t{1});
     }
   }
+  mark_broken_silhouettes(cloud);
   for (const RingRun& run : runs_) {
     if (stands_out_[run.a] == 0 || (run.wrap != kNoRun && run.a != run.first)) continue;
     remove_silhouette(cloud, run, run.wrap != kNoRun ? &runs_[run.wrap] : nullptr);
+  }
+}
+
+// An object that a gap in its ring cut in two (a drop-out, or its edge stepping back by more
+// than the run gap): one part stands out, the other opens at its far end but meets, at the
+// cut, the nearer part standing out. The two stand out together when the whole is short
+// (silhouette_max_m) and the cut is small (within twice the run gap): a bush at a crest's
+// far side, the ring seeing sky on one side and the fields far below on the other
+// (hills_s102). A nearer part that does not stand out hides the run's end (a car in front of
+// the road): no judgement there.
+void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
+  const int columns = static_cast<int>(column_start_.size()) - 1;
+  for (std::size_t i = 0; i < runs_.size(); ++i) {
+    const RingRun& run = runs_[i];
+    // A run over the sensor met by rising rays may end in the sky where the terrain does (a
+    // bank's top edge); a falling ray meets the sky only past terrain falling out of reach.
+    if (run.wrap != kNoRun || stands_out_[run.a] != 0 ||
+        apart(cloud, run.a, run.b, p_.broken_part_max_m) || cloud.z[run.a] >= p_.sensor_z)
+      continue;
+    // The part beyond the cut on one side, the run's other end open.
+    auto joins = [&](Index end, Index beyond, Index far_end) {
+      const float limit = 2.f * (p_.run_gap_m + p_.run_gap_per_m * cloud.range_xy[end]);
+      return stands_out_[beyond] != 0 && cloud.range_xy[beyond] < cloud.range_xy[end] &&
+             cloud.column[beyond] - cloud.column[end] <= p_.run_column_gap &&
+             !apart(cloud, end, beyond, limit) &&
+             !apart(cloud, far_end, run.a == end ? run.b : run.a, p_.silhouette_max_m);
+    };
+    const bool right = i + 1 < runs_.size() && run.b + 1 < run.last && runs_[i + 1].wrap == kNoRun &&
+                       joins(run.b, run.b + 1, runs_[i + 1].b) &&
+                       opens_to_sky(cloud, run.a, run.a - 1, run.a > run.first,
+                                    static_cast<int>(cloud.column[run.a]));
+    const bool left = !right && i > 0 && run.a > run.first && runs_[i - 1].wrap == kNoRun &&
+                      joins(run.a, run.a - 1, runs_[i - 1].a) &&
+                      opens_to_sky(cloud, run.b, run.b + 1, run.b + 1 < run.last,
+                                   columns - 1 - static_cast<int>(cloud.column[run.b]));
+    if (right || left) std::fill(stands_out_.begin() + static_cast<std::ptrdiff_t>(run.a),
+                                 stands_out_.begin() + static_cast<std::ptrdiff_t>(run.b) + 1,
+                                 std::uint8_t{2});
   }
 }
 
@@ -232,16 +271,28 @@ bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Ind
   const int columns = static_cast<int>(column_start_.size()) - 1;
   // Columns without a return between the run's end and the next return of the ring (or
   // the frame's edge, beyond which nothing is known).
-  auto open = [&](Index end, Index beyond, bool has_beyond, int edge_gap) {
-    const int gap = has_beyond ? std::abs(static_cast<int>(cloud.column[beyond]) -
-                                          static_cast<int>(cloud.column[end])) - 1
-                               : edge_gap;
-    if (gap >= p_.sky_columns) return true;  // no return for a while: the sky
-    return has_beyond && (cloud.range_xy[beyond] > cloud.range_xy[end] + p_.run_gap_m ||
-                          stopped_by_face(cloud, end, beyond));
-  };
-  return open(a, a - 1, a > first, static_cast<int>(cloud.column[a])) &&
-         open(b, b + 1, b + 1 < last, columns - 1 - static_cast<int>(cloud.column[b]));
+  return end_open(cloud, a, a - 1, a > first, static_cast<int>(cloud.column[a])) &&
+         end_open(cloud, b, b + 1, b + 1 < last, columns - 1 - static_cast<int>(cloud.column[b]));
+}
+
+// Whether no return follows a run's end return `end` over sky_columns columns (to the
+// ring's next return `beyond`, or to the frame's edge `edge_gap` columns away).
+bool ColumnProfiles::opens_to_sky(const Cloud& cloud, Index end, Index beyond, bool has_beyond,
+                                  int edge_gap) const {
+  const int gap = has_beyond ? std::abs(static_cast<int>(cloud.column[beyond]) -
+                                        static_cast<int>(cloud.column[end])) - 1
+                             : edge_gap;
+  return gap >= p_.sky_columns;
+}
+
+// Whether a run's end return `end` opens onto the sky (no return over sky_columns columns
+// to the ring's next return `beyond`, or to the frame's edge `edge_gap` columns away when
+// there is none) or onto a return behind it (farther away).
+bool ColumnProfiles::end_open(const Cloud& cloud, Index end, Index beyond, bool has_beyond,
+                              int edge_gap) const {
+  if (opens_to_sky(cloud, end, beyond, has_beyond, edge_gap)) return true;
+  return has_beyond && (cloud.range_xy[beyond] > cloud.range_xy[end] + p_.run_gap_m ||
+                        stopped_by_face(cloud, end, beyond));
 }
 
 // Whether the ray of return `end`, rising over the sensor, passed on where the same ring's
@@ -554,6 +605,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     q.rises_on = blocked && profile_size_ <= 2 && !(std::abs(q.level2_h) <= p_.single_rise_m) &&
                  rises_over_its_ray(k, end);
     q.kinked = step - gradient > p_.kink_gradient;
+    q.resumed = blocked;
     // Ground level with the ground under the vehicle, no obstacle before it in the column:
     // that ground going on (rule 4 keeps it, whatever the level-2 surface says, when no
     // ground is left before it: a bush in front taken by the walk, then as a silhouette).
@@ -729,12 +781,17 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
       const bool after = !bump && next < end && vouches_after &&
                          raised_over_level2(next, 0.5f * p_.single_rise_m);
       // Level with the ground return before it, or under it, the level-2 surface is what
-      // is off (a levee's shoulder over a cell fitted to the fields below). With no ground
+      // is off (a levee's shoulder over a cell fitted to the fields below); past an
+      // obstacle only when it is also level with the ground under the vehicle (the road
+      // going on past a car): else the level-2 surface may have seen the terrain fall away
+      // where the column did not (a tree crown in a valley over a car, hills_s2). With no ground
       // return before it, the column has only the start: the return must be level with the
       // ground under the vehicle (not under it: a bush in the fields below a levee is), no
       // obstacle before it (past a car, a roof may be level with the road).
       const bool level = previous < end
-                             ? points_[k].z - points_[previous].z <= 0.5f * p_.single_rise_m
+                             ? points_[k].z - points_[previous].z <= 0.5f * p_.single_rise_m &&
+                                   (points_[k].resumed == 0 ||
+                                    std::abs(points_[k].z - start_z_) <= 0.5f * p_.single_rise_m)
                              : points_[k].vehicle_ground != 0;
       // On or under the chord joining the ground returns before and after it, it is no
       // bump in the column (a fence line stands over that chord by its height).

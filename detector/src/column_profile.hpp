@@ -96,6 +96,9 @@ struct ProfileParams {
   int run_column_gap = 2;
   float run_gap_m = 0.3f, run_gap_per_m = 0.02f;
   float silhouette_max_m = 6.f;
+  // A part of a run cut off from a nearer part standing out, open to the sky at its other
+  // end, no longer than this stands out with it (mark_broken_silhouettes).
+  float broken_part_max_m = 2.f;
   int sky_columns = 3;
   // ... or, for a ring's ray rising over the sensor, the next return nearer still where the
   // ground it met there climbed from its column's last ground return more steeply than
@@ -144,6 +147,8 @@ class ColumnProfiles {
     std::uint8_t rises_on = 0;  // resumed as ground over the sensor (rises_over_its_ray)
     // Taken as ground bending the profile's gradient up by more than kink_gradient.
     std::uint8_t kinked = 0;
+    // Taken as ground past an obstacle (an obstacle return since the last ground return).
+    std::uint8_t resumed = 0;
     // Level with the start, no obstacle before it in the column (the vehicle's ground).
     std::uint8_t vehicle_ground = 0;
     // ... and the cloud index of the column's next ground return when that goes on level
@@ -179,6 +184,11 @@ class ColumnProfiles {
   void mark_continuous(const Cloud& cloud, std::size_t end);
   [[nodiscard]] bool stands_out(const Cloud& cloud, std::size_t first, std::size_t last,
                                 std::size_t a, std::size_t b) const;
+  [[nodiscard]] bool end_open(const Cloud& cloud, std::size_t end, std::size_t beyond,
+                              bool has_beyond, int edge_gap) const;
+  [[nodiscard]] bool opens_to_sky(const Cloud& cloud, std::size_t end, std::size_t beyond,
+                                  bool has_beyond, int edge_gap) const;
+  void mark_broken_silhouettes(const Cloud& cloud);
   [[nodiscard]] bool stopped_by_face(const Cloud& cloud, std::size_t end,
                                      std::size_t nearer) const;
   void add_to_profile(float r, float z);

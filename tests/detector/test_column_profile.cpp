@@ -813,3 +813,53 @@ TEST_CASE("column profiles: a ring is a closed curve across the frame's edge",
   for (const std::uint8_t g : road) taken += g;
   CHECK(taken == static_cast<int>(road.size()));
 }
+
+TEST_CASE("column profiles: an object a gap cut in two stands out whole",
+          "[detector][profiles]") {
+  // Sim hills_s102 (frame 2): past a crest, ring 6 meets a low object 33-34 m out whose
+  // edge steps back 1.4 m at a dropped column; the ground beside it fell out of reach (no
+  // return: the sky). Its nearer part (columns 24-26) stands out, the sky on one side and
+  // the farther part on the other; the farther part (columns 20-22) meets the sky on one
+  // side and the nearer part on the other. Together they are one short object.
+  const auto scan = [](int near_last_col) {
+    Scan s;
+    const float r[] = {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f};
+    for (int ring = 0; ring < 6; ++ring) {
+      for (int col = 0; col <= 60; ++col) add(s, ring, col, r[ring], 0.3f - 0.01f * r[ring], 1);
+    }
+    for (int col = 20; col <= 22; ++col) add(s, 6, col, 34.f, 0.08f, 2);
+    for (int col = 24; col <= near_last_col; ++col) add(s, 6, col, 32.7f, 0.11f, 2);
+    return s;
+  };
+  const auto ring6_ground = [](const Scan& s) {
+    const auto ground = label(s).ground;
+    int far = 0, near = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      if (s.cloud.ring[i] != 6) continue;
+      (s.cloud.column[i] <= 22 ? far : near) += ground[i];
+    }
+    return std::pair{far, near};
+  };
+  CHECK(ring6_ground(scan(26)) == std::pair{0, 0});
+  // Where the nearer part runs on (ground seen along 36 columns) it does not stand out: it
+  // hides where the farther part ends, and nothing is said of that part.
+  CHECK(ring6_ground(scan(60)) == std::pair{3, 37});
+}
+
+TEST_CASE("column profiles: past an obstacle, level with the ground before it is not enough",
+          "[detector][profiles]") {
+  // Sim hills_s2 (20 Hz): a car beside the vehicle hides rings 1-3; ring 4 passes over it
+  // to a tree crown 24 m out, 0.5 m under the ground before the car and 3 m over the level-2
+  // surface, fitted there to a valley floor the column never saw. Level with the ground
+  // before it, it resumed past the car: the level-2 surface may be right.
+  const std::vector<float> level2 = {0.f, 0.f, 0.f, 0.f, 3.f};
+  CHECK(label(car_then(24.f, -0.5f, 2), level2).ground.back() == 0);
+  // Level with the ground the vehicle stands on, it is that road going on past the car (a
+  // levee whose level-2 cell lies on the fields below).
+  CHECK(label(car_then(24.f, -0.05f, 1), level2).ground.back() == 1);
+  // With nothing between, the same return goes on from the ground before it.
+  Scan open;
+  add(open, 0, 0, 6.f, 0.f, 1);
+  add(open, 4, 0, 24.f, -0.5f, 1);
+  CHECK(label(open, {0.f, 3.f}).ground == std::vector<std::uint8_t>{1, 1});
+}
