@@ -119,7 +119,8 @@ void ColumnProfiles::remove_silhouettes(const Cloud& cloud) {
 // An object that a gap in its ring cut in two (a drop-out, or its edge stepping back by more
 // than the run gap): one part stands out, the other opens at its far end but meets, at the
 // cut, the nearer part standing out. The two stand out together when the whole is short
-// (silhouette_max_m) and the cut is small (within twice the run gap): a bush at a crest's
+// (silhouette_max_m) and the cut is small (within twice the run gap, fewer columns missing
+// than the sky takes): a bush at a crest's
 // far side, the ring seeing sky on one side and the fields far below on the other
 // (hills_s102). A nearer part that does not stand out hides the run's end (a car in front of
 // the road): no judgement there.
@@ -136,7 +137,7 @@ void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
     auto joins = [&](Index end, Index beyond, Index far_end) {
       const float limit = 2.f * (p_.run_gap_m + p_.run_gap_per_m * cloud.range_xy[end]);
       return stands_out_[beyond] != 0 && cloud.range_xy[beyond] < cloud.range_xy[end] &&
-             cloud.column[beyond] - cloud.column[end] <= p_.run_column_gap &&
+             std::abs(cloud.column[beyond] - cloud.column[end]) - 1 < p_.sky_columns &&
              !apart(cloud, end, beyond, limit) &&
              !apart(cloud, far_end, run.a == end ? run.b : run.a, p_.silhouette_max_m);
     };

@@ -98,7 +98,7 @@ struct ProfileParams {
   float silhouette_max_m = 6.f;
   // A part of a run cut off from a nearer part standing out, open to the sky at its other
   // end, no longer than this stands out with it (mark_broken_silhouettes).
-  float broken_part_max_m = 2.f;
+  float broken_part_max_m = 4.f;
   int sky_columns = 3;
   // ... or, for a ring's ray rising over the sensor, the next return nearer still where the
   // ground it met there climbed from its column's last ground return more steeply than
