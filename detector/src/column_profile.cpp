@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace vlpground::detail {
 
@@ -78,11 +79,13 @@ void ColumnProfiles::find_ring_runs(const Cloud& cloud, Index strongest_end) {
 // Whether the ring's last return (`end`, at the frame's last columns) and its first
 // (`start`, at the first columns) are continuous across the frame's edge: within
 // run_column_gap columns of each other around the rotation, and close in range, height and
-// position (a frame that is not a whole rotation leaves them far apart).
+// position (a frame that is not a whole rotation leaves them far apart), by kEdgeMotionSlack
+// times the run gap: the vehicle moved between the two ends of the rotation (0.6-0.7 m on a
+// ramp at 5 Hz, garage_s5; hills_s3).
 bool ColumnProfiles::continuous_across_edge(const Cloud& cloud, Index end, Index start) const {
   const int columns = static_cast<int>(column_start_.size()) - 1;
   const int gap = static_cast<int>(cloud.column[start]) + columns - static_cast<int>(cloud.column[end]);
-  const float limit = p_.run_gap_m + p_.run_gap_per_m * cloud.range_xy[end];
+  const float limit = kEdgeMotionSlack * (p_.run_gap_m + p_.run_gap_per_m * cloud.range_xy[end]);
   const float dr = cloud.range_xy[start] - cloud.range_xy[end], dz = cloud.z[start] - cloud.z[end];
   return gap <= p_.run_column_gap && dr * dr + dz * dz <= limit * limit &&
          !apart(cloud, end, start, limit);
@@ -116,43 +119,63 @@ void ColumnProfiles::remove_silhouettes(const Cloud& cloud) {
   }
 }
 
-// An object that a gap in its ring cut in two (a drop-out, or its edge stepping back by more
-// than the run gap): one part stands out, the other opens at its far end but meets, at the
-// cut, the nearer part standing out. The two stand out together when the whole is short
-// (silhouette_max_m) and the cut is small (within twice the run gap, fewer columns missing
-// than the sky takes): a bush at a crest's
-// far side, the ring seeing sky on one side and the fields far below on the other
-// (hills_s102). A nearer part that does not stand out hides the run's end (a car in front of
-// the road): no judgement there.
+// An object that a small gap in its ring cut in two (a drop-out, its edge stepping back by
+// more than the run gap; across the frame's edge too): neighbouring runs whose cut is small (within
+// twice the run gap, fewer columns missing than the sky takes) stand out together when the
+// whole is short (silhouette_max_m), the nearer part stands out and the other opens onto
+// the sky at its far end: a bush at a crest's far side, the ring seeing the sky on one side
+// and the fields far below on the other (hills_s102). Only under the sensor: a run met by rising rays may end in the sky where the terrain does
+// (a bank's top edge); a falling ray meets the sky only past terrain falling out of reach.
 void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
   const int columns = static_cast<int>(column_start_.size()) - 1;
   for (std::size_t i = 0; i < runs_.size(); ++i) {
-    const RingRun& run = runs_[i];
-    // A run over the sensor met by rising rays may end in the sky where the terrain does (a
-    // bank's top edge); a falling ray meets the sky only past terrain falling out of reach.
-    if (run.wrap != kNoRun || stands_out_[run.a] != 0 ||
-        apart(cloud, run.a, run.b, p_.broken_part_max_m) || cloud.z[run.a] >= p_.sensor_z)
+    const std::size_t j = ring_neighbour(i, true);
+    if (j == kNoRun || runs_[i].wrap != kNoRun || runs_[j].wrap != kNoRun) continue;
+    const RingRun &one = runs_[i], &two = runs_[j];
+    const bool out_one = stands_out_[one.a] != 0, out_two = stands_out_[two.a] != 0;
+    if ((out_one && out_two) || cloud.z[one.b] >= p_.sensor_z || cloud.z[two.a] >= p_.sensor_z)
       continue;
-    // The part beyond the cut on one side, the run's other end open.
-    auto joins = [&](Index end, Index beyond, Index far_end) {
-      const float limit = 2.f * (p_.run_gap_m + p_.run_gap_per_m * cloud.range_xy[end]);
-      return stands_out_[beyond] != 0 && cloud.range_xy[beyond] < cloud.range_xy[end] &&
-             std::abs(cloud.column[beyond] - cloud.column[end]) - 1 < p_.sky_columns &&
-             !apart(cloud, end, beyond, limit) &&
-             !apart(cloud, far_end, run.a == end ? run.b : run.a, p_.silhouette_max_m);
-    };
-    const bool right = i + 1 < runs_.size() && run.b + 1 < run.last && runs_[i + 1].wrap == kNoRun &&
-                       joins(run.b, run.b + 1, runs_[i + 1].b) &&
-                       opens_to_sky(cloud, run.a, run.a - 1, run.a > run.first,
-                                    static_cast<int>(cloud.column[run.a]));
-    const bool left = !right && i > 0 && run.a > run.first && runs_[i - 1].wrap == kNoRun &&
-                      joins(run.a, run.a - 1, runs_[i - 1].a) &&
-                      opens_to_sky(cloud, run.b, run.b + 1, run.b + 1 < run.last,
-                                   columns - 1 - static_cast<int>(cloud.column[run.b]));
-    if (right || left) std::fill(stands_out_.begin() + static_cast<std::ptrdiff_t>(run.a),
-                                 stands_out_.begin() + static_cast<std::ptrdiff_t>(run.b) + 1,
-                                 std::uint8_t{2});
+    const int cut = (cloud.column[two.a] - cloud.column[one.b] + columns) % columns - 1;
+    const float limit = 2.f * (p_.run_gap_m + p_.run_gap_per_m * cloud.range_xy[one.b]);
+    if (cut >= p_.sky_columns || apart(cloud, one.b, two.a, limit) ||
+        apart(cloud, one.a, two.b, p_.silhouette_max_m))
+      continue;
+    const bool two_nearer = cloud.range_xy[two.a] < cloud.range_xy[one.b];
+    bool together = false;
+    if (out_two && two_nearer) {
+      together = outer_end_sky(cloud, one, false);
+    } else if (out_one && !two_nearer) {
+      together = outer_end_sky(cloud, two, true);
+    }
+    if (!together) continue;
+    for (const RingRun* part : {&one, &two}) {
+      std::fill(stands_out_.begin() + static_cast<std::ptrdiff_t>(part->a),
+                stands_out_.begin() + static_cast<std::ptrdiff_t>(part->b) + 1, std::uint8_t{1});
+    }
   }
+}
+
+// Whether run `run`'s last end (`after`) or first end opens onto the sky (sky_columns
+// columns without a return).
+bool ColumnProfiles::outer_end_sky(const Cloud& cloud, const RingRun& run, bool after) const {
+  int gap = 0;
+  static_cast<void>(beyond_end(cloud, run.first, run.last, after ? run.b : run.a, after, gap));
+  return gap >= p_.sky_columns;
+}
+
+// The run after run i along its ring (`after`), or before it; across the frame's edge for
+// the ring's last (first) run; kNoRun for a ring of one run.
+std::size_t ColumnProfiles::ring_neighbour(std::size_t i, bool after) const {
+  const RingRun& run = runs_[i];
+  if (after && run.b + 1 < run.last) return i + 1;
+  if (!after && run.a > run.first) return i - 1;
+  std::size_t j = i;
+  if (after) {
+    while (runs_[j].a != run.first) --j;  // the ring's first run
+  } else {
+    while (runs_[j].b + 1 != run.last) ++j;  // the ring's last run
+  }
+  return j == i ? kNoRun : j;
 }
 
 // Whether a run from return a (before the frame's edge) to b (after it) covers less than
@@ -172,7 +195,6 @@ bool ColumnProfiles::under_half_turn(const Cloud& cloud, Index a, Index b) const
 // with the road to the fields, or meets the crown again, standing out as well; over a low
 // object a higher ring sees the road only in its gaps.
 void ColumnProfiles::remove_silhouette(const Cloud& cloud, const RingRun& run, const RingRun* before) {
-  constexpr Index kNone = ~Index{0};
   Index road_first = kNone, road_last = kNone;
   for (const RingRun* part : {before, &run}) {
     if (part == nullptr) continue;
@@ -269,31 +291,48 @@ bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Ind
                                 Index b) const {
   const float extent = std::hypot(cloud.x[b] - cloud.x[a], cloud.y[b] - cloud.y[a]);
   if (extent > p_.silhouette_max_m) return false;
+  int gap_a = 0, gap_b = 0;
+  const Index before = beyond_end(cloud, first, last, a, false, gap_a);
+  const Index after = beyond_end(cloud, first, last, b, true, gap_b);
+  return end_open(cloud, a, before, gap_a) && end_open(cloud, b, after, gap_b);
+}
+
+// The ring's return beyond run end `end` (positions first..last): the next one (`after`)
+// or the one before, or kNone at the frame's edge. `gap` is set to the columns without a
+// return between `end` and it; at the frame's edge, to those up to the ring's return across
+// it (its first or last one) where the frame is a whole rotation there (the two returns'
+// azimuths as close as their column gap says), else up to the edge, beyond which nothing is
+// known. Across the edge only the gap counts (the sky): the vehicle moved between the two
+// ends of the rotation, so their ranges do not compare.
+std::size_t ColumnProfiles::beyond_end(const Cloud& cloud, Index first, Index last, Index end,
+                                       bool after, int& gap) const {
   const int columns = static_cast<int>(column_start_.size()) - 1;
-  // Columns without a return between the run's end and the next return of the ring (or
-  // the frame's edge, beyond which nothing is known).
-  return end_open(cloud, a, a - 1, a > first, static_cast<int>(cloud.column[a])) &&
-         end_open(cloud, b, b + 1, b + 1 < last, columns - 1 - static_cast<int>(cloud.column[b]));
+  const int column = cloud.column[end];
+  if (after ? end + 1 < last : end > first) {
+    const Index beyond = after ? end + 1 : end - 1;
+    gap = std::abs(static_cast<int>(cloud.column[beyond]) - column) - 1;
+    return beyond;
+  }
+  gap = after ? columns - 1 - column : column;
+  const Index across = after ? first : last - 1;
+  if (across == end) return kNone;
+  const int around = (after ? cloud.column[across] + columns - column
+                            : column + columns - cloud.column[across]) - 1;
+  const float ex = cloud.x[end] - p_.sensor_x, ey = cloud.y[end] - p_.sensor_y;
+  const float ox = cloud.x[across] - p_.sensor_x, oy = cloud.y[across] - p_.sensor_y;
+  const float cos_apart = (ex * ox + ey * oy) / (std::hypot(ex, ey) * std::hypot(ox, oy));
+  const float step_rad = 2.f * std::numbers::pi_v<float> / static_cast<float>(columns);
+  if (cos_apart >= std::cos(kAzimuthSlack * static_cast<float>(around + 1) * step_rad)) gap = around;
+  return kNone;
 }
 
-// Whether no return follows a run's end return `end` over sky_columns columns (to the
-// ring's next return `beyond`, or to the frame's edge `edge_gap` columns away).
-bool ColumnProfiles::opens_to_sky(const Cloud& cloud, Index end, Index beyond, bool has_beyond,
-                                  int edge_gap) const {
-  const int gap = has_beyond ? std::abs(static_cast<int>(cloud.column[beyond]) -
-                                        static_cast<int>(cloud.column[end])) - 1
-                             : edge_gap;
-  return gap >= p_.sky_columns;
-}
-
-// Whether a run's end return `end` opens onto the sky (no return over sky_columns columns
-// to the ring's next return `beyond`, or to the frame's edge `edge_gap` columns away when
-// there is none) or onto a return behind it (farther away).
-bool ColumnProfiles::end_open(const Cloud& cloud, Index end, Index beyond, bool has_beyond,
-                              int edge_gap) const {
-  if (opens_to_sky(cloud, end, beyond, has_beyond, edge_gap)) return true;
-  return has_beyond && (cloud.range_xy[beyond] > cloud.range_xy[end] + p_.run_gap_m ||
-                        stopped_by_face(cloud, end, beyond));
+// Whether a run's end return `end` opens onto the sky (`gap` columns without a return to
+// the ring's next return `beyond`, or to the frame's edge when that is kNone, reach
+// sky_columns) or onto a return behind it (farther away).
+bool ColumnProfiles::end_open(const Cloud& cloud, Index end, Index beyond, int gap) const {
+  if (gap >= p_.sky_columns) return true;  // no return for a while: the sky
+  return beyond != kNone && (cloud.range_xy[beyond] > cloud.range_xy[end] + p_.run_gap_m ||
+                             stopped_by_face(cloud, end, beyond));
 }
 
 // Whether the ray of return `end`, rising over the sensor, passed on where the same ring's

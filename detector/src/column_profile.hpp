@@ -96,9 +96,6 @@ struct ProfileParams {
   int run_column_gap = 2;
   float run_gap_m = 0.3f, run_gap_per_m = 0.02f;
   float silhouette_max_m = 6.f;
-  // A part of a run cut off from a nearer part standing out, open to the sky at its other
-  // end, no longer than this stands out with it (mark_broken_silhouettes).
-  float broken_part_max_m = 4.f;
   int sky_columns = 3;
   // ... or, for a ring's ray rising over the sensor, the next return nearer still where the
   // ground it met there climbed from its column's last ground return more steeply than
@@ -184,11 +181,13 @@ class ColumnProfiles {
   void mark_continuous(const Cloud& cloud, std::size_t end);
   [[nodiscard]] bool stands_out(const Cloud& cloud, std::size_t first, std::size_t last,
                                 std::size_t a, std::size_t b) const;
-  [[nodiscard]] bool end_open(const Cloud& cloud, std::size_t end, std::size_t beyond,
-                              bool has_beyond, int edge_gap) const;
-  [[nodiscard]] bool opens_to_sky(const Cloud& cloud, std::size_t end, std::size_t beyond,
-                                  bool has_beyond, int edge_gap) const;
+  [[nodiscard]] std::size_t beyond_end(const Cloud& cloud, std::size_t first, std::size_t last,
+                                       std::size_t end, bool after, int& gap) const;
+  [[nodiscard]] bool end_open(const Cloud& cloud, std::size_t end, std::size_t beyond, int gap) const;
+  struct RingRun;
+  [[nodiscard]] bool outer_end_sky(const Cloud& cloud, const RingRun& run, bool after) const;
   void mark_broken_silhouettes(const Cloud& cloud);
+  [[nodiscard]] std::size_t ring_neighbour(std::size_t i, bool after) const;
   [[nodiscard]] bool stopped_by_face(const Cloud& cloud, std::size_t end,
                                      std::size_t nearer) const;
   void add_to_profile(float r, float z);
@@ -211,6 +210,13 @@ class ColumnProfiles {
   // is a closed curve that the frame's edge cuts: the ring's first run goes on from its last
   // run across the edge when their ends are continuous (wrap: the other run's index).
   static constexpr std::size_t kNoRun = ~std::size_t{0};
+  static constexpr std::size_t kNone = ~std::size_t{0};  // no such point position
+  // Two returns across the frame's edge are neighbours where their azimuths are at most this
+  // many times their column gap apart (the frame a whole rotation there).
+  static constexpr float kAzimuthSlack = 1.5f;
+  // Returns across the frame's edge are continuous within this many times the run gap (the
+  // vehicle moved over the rotation between them).
+  static constexpr float kEdgeMotionSlack = 2.f;
   struct RingRun {
     std::size_t first, last, a, b;
     std::size_t wrap = kNoRun;

@@ -110,7 +110,13 @@ TEST_CASE("column profiles follow a bank, a levee's fields and stop at walls and
                  << scan.cloud.z[i]);
     const bool wall_beyond_ground =
         wall_column(scan.cloud.column[i]) && scan.cloud.range_xy[i] < 12.f;
-    if (scan.truth[i] == 2) {
+    // Ring 4 (12 m) meets the fields in column 0 only, the levee's side in the shadow on
+    // both sides of it: a lone return with the sky on both sides across the frame's edge,
+    // standing out (rule 5) as anywhere else on the ring.
+    const bool lone_return = scan.cloud.ring[i] == 4 && scan.cloud.z[i] < -1.f;
+    if (lone_return) {
+      CHECK(ground[i] == 0);
+    } else if (scan.truth[i] == 2) {
       CHECK(ground[i] == 0);
     } else if (!wall_beyond_ground) {
       CHECK(ground[i] == 1);
