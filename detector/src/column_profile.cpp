@@ -123,8 +123,9 @@ void ColumnProfiles::remove_silhouettes(const Cloud& cloud) {
 // more than the run gap; across the frame's edge too): neighbouring runs whose cut is small (within
 // twice the run gap, fewer columns missing than the sky takes) stand out together when the
 // whole is short (silhouette_max_m), the nearer part stands out and the other opens onto
-// the sky at its far end: a bush at a crest's far side, the ring seeing the sky on one side
-// and the fields far below on the other (hills_s102). Only under the sensor: a run met by rising rays may end in the sky where the terrain does
+// the sky at its far end and stands over the level-2 surface: a bush at a crest's far side,
+// the ring seeing the sky on one side and the fields far below on the other (hills_s102).
+// Only under the sensor: a run met by rising rays may end in the sky where the terrain does
 // (a bank's top edge); a falling ray meets the sky only past terrain falling out of reach.
 void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
   const int columns = static_cast<int>(column_start_.size()) - 1;
@@ -142,10 +143,17 @@ void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
       continue;
     const bool two_nearer = cloud.range_xy[two.a] < cloud.range_xy[one.b];
     bool together = false;
+    // The farther part must stand over the level-2 surface too (at both its ends): the
+    // terrain seen elsewhere lies lower there. A real ring has drop-outs on dark ground that
+    // look like the sky (vlp16_outdoor_600rpm: road 32 m out beside a car).
+    auto raised = [&](const RingRun& part) {
+      return raised_over_level2(position_[part.a], p_.single_rise_m) &&
+             raised_over_level2(position_[part.b], p_.single_rise_m);
+    };
     if (out_two && two_nearer) {
-      together = outer_end_sky(cloud, one, false);
+      together = outer_end_sky(cloud, one, false) && raised(one);
     } else if (out_one && !two_nearer) {
-      together = outer_end_sky(cloud, two, true);
+      together = outer_end_sky(cloud, two, true) && raised(two);
     }
     if (!together) continue;
     for (const RingRun* part : {&one, &two}) {

@@ -837,8 +837,14 @@ TEST_CASE("column profiles: an object a gap cut in two stands out whole",
     for (int col = 24; col <= near_last_col; ++col) add(s, 6, col, 32.7f, 0.11f, 2);
     return s;
   };
-  const auto ring6_ground = [](const Scan& s) {
-    const auto ground = label(s).ground;
+  // The level-2 surface lies 1 m under the farther part (the terrain seen elsewhere falls
+  // away there), or on it (`on_terrain`: a ring's drop-out on dark ground beside a car).
+  const auto ring6_ground = [](const Scan& s, bool on_terrain = false) {
+    std::vector<float> level2(s.cloud.size(), 0.f);
+    for (std::size_t i = 0; i < level2.size(); ++i) {
+      if (s.cloud.ring[i] == 6 && s.cloud.column[i] <= 22 && !on_terrain) level2[i] = 1.f;
+    }
+    const auto ground = label(s, level2).ground;
     int far = 0, near = 0;
     for (std::size_t i = 0; i < ground.size(); ++i) {
       if (s.cloud.ring[i] != 6) continue;
@@ -847,6 +853,9 @@ TEST_CASE("column profiles: an object a gap cut in two stands out whole",
     return std::pair{far, near};
   };
   CHECK(ring6_ground(scan(26)) == std::pair{0, 0});
+  // Where the level-2 surface agrees with the farther part, the sky beside it may be a
+  // drop-out of the ground: the farther part stays ground.
+  CHECK(ring6_ground(scan(26), true) == std::pair{3, 0});
   // Where the nearer part runs on (ground seen along 36 columns) it does not stand out: it
   // hides where the farther part ends, and nothing is said of that part.
   CHECK(ring6_ground(scan(60)) == std::pair{3, 37});
