@@ -85,7 +85,7 @@ void ColumnProfiles::find_ring_runs(const Cloud& cloud, Index strongest_end) {
 bool ColumnProfiles::continuous_across_edge(const Cloud& cloud, Index end, Index start) const {
   const int columns = static_cast<int>(column_start_.size()) - 1;
   const int gap = static_cast<int>(cloud.column[start]) + columns - static_cast<int>(cloud.column[end]);
-  const float limit = kEdgeMotionSlack * (p_.run_gap_m + p_.run_gap_per_m * cloud.range_xy[end]);
+  const float limit = kEdgeMotionSlack * run_gap(cloud.range_xy[end]);
   const float dr = cloud.range_xy[start] - cloud.range_xy[end], dz = cloud.z[start] - cloud.z[end];
   return gap <= p_.run_column_gap && dr * dr + dz * dz <= limit * limit &&
          !apart(cloud, end, start, limit);
@@ -106,11 +106,8 @@ void ColumnProfiles::remove_silhouettes(const Cloud& cloud) {
     const Index outer_a = before != nullptr ? before->a : run.a;
     if (before != nullptr && !under_half_turn(cloud, before->a, run.b)) continue;
     if (!stands_out(cloud, run.first, run.last, outer_a, run.b)) continue;
-    for (const RingRun* part : {before, &run}) {
-      if (part == nullptr) continue;
-      std::fill(stands_out_.begin() + static_cast<std::ptrdiff_t>(part->a),
-                stands_out_.begin() + static_cast<std::ptrdiff_t>(part->b) + 1, std::uint8_t{1});
-    }
+    if (before != nullptr) mark_standing_out(*before);
+    mark_standing_out(run);
   }
   mark_broken_silhouettes(cloud);
   for (const RingRun& run : runs_) {
@@ -130,14 +127,14 @@ void ColumnProfiles::remove_silhouettes(const Cloud& cloud) {
 void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
   const int columns = static_cast<int>(column_start_.size()) - 1;
   for (std::size_t i = 0; i < runs_.size(); ++i) {
-    const std::size_t j = ring_neighbour(i, true);
+    const std::size_t j = next_run(i);
     if (j == kNoRun || runs_[i].wrap != kNoRun || runs_[j].wrap != kNoRun) continue;
     const RingRun &one = runs_[i], &two = runs_[j];
     const bool out_one = stands_out_[one.a] != 0, out_two = stands_out_[two.a] != 0;
     if ((out_one && out_two) || cloud.z[one.b] >= p_.sensor_z || cloud.z[two.a] >= p_.sensor_z)
       continue;
     const int cut = (cloud.column[two.a] - cloud.column[one.b] + columns) % columns - 1;
-    const float limit = 2.f * (p_.run_gap_m + p_.run_gap_per_m * cloud.range_xy[one.b]);
+    const float limit = 2.f * run_gap(cloud.range_xy[one.b]);
     if (cut >= p_.sky_columns || apart(cloud, one.b, two.a, limit) ||
         apart(cloud, one.a, two.b, p_.silhouette_max_m))
       continue;
@@ -156,11 +153,15 @@ void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
       together = outer_end_sky(cloud, two, true) && raised(two);
     }
     if (!together) continue;
-    for (const RingRun* part : {&one, &two}) {
-      std::fill(stands_out_.begin() + static_cast<std::ptrdiff_t>(part->a),
-                stands_out_.begin() + static_cast<std::ptrdiff_t>(part->b) + 1, std::uint8_t{1});
-    }
+    mark_standing_out(one);
+    mark_standing_out(two);
   }
+}
+
+// Marks run `run`'s returns as standing out.
+void ColumnProfiles::mark_standing_out(const RingRun& run) {
+  std::fill(stands_out_.begin() + static_cast<std::ptrdiff_t>(run.a),
+            stands_out_.begin() + static_cast<std::ptrdiff_t>(run.b) + 1, std::uint8_t{1});
 }
 
 // Whether run `run`'s last end (`after`) or first end opens onto the sky (sky_columns
@@ -171,18 +172,13 @@ bool ColumnProfiles::outer_end_sky(const Cloud& cloud, const RingRun& run, bool 
   return gap >= p_.sky_columns;
 }
 
-// The run after run i along its ring (`after`), or before it; across the frame's edge for
-// the ring's last (first) run; kNoRun for a ring of one run.
-std::size_t ColumnProfiles::ring_neighbour(std::size_t i, bool after) const {
+// The run after run i along its ring; across the frame's edge, the ring's first run for its
+// last one; kNoRun for a ring of one run.
+std::size_t ColumnProfiles::next_run(std::size_t i) const {
   const RingRun& run = runs_[i];
-  if (after && run.b + 1 < run.last) return i + 1;
-  if (!after && run.a > run.first) return i - 1;
+  if (run.b + 1 < run.last) return i + 1;
   std::size_t j = i;
-  if (after) {
-    while (runs_[j].a != run.first) --j;  // the ring's first run
-  } else {
-    while (runs_[j].b + 1 != run.last) ++j;  // the ring's last run
-  }
+  while (runs_[j].a != run.first) --j;  // the ring's first run
   return j == i ? kNoRun : j;
 }
 
@@ -352,7 +348,7 @@ bool ColumnProfiles::end_open(const Cloud& cloud, Index end, Index beyond, int g
 bool ColumnProfiles::stopped_by_face(const Cloud& cloud, Index end, Index nearer) const {
   if (p_.sensor_z <= 0.f || cloud.z[end] <= p_.sensor_z) return false;
   const float r = cloud.range_xy[end];
-  if (cloud.range_xy[nearer] >= r - p_.run_gap_m - p_.run_gap_per_m * r) return false;
+  if (cloud.range_xy[nearer] >= r - run_gap(r)) return false;
   const Index k = position_[nearer];
   const ColumnPoint& q = points_[k];
   if (q.ground == 0 || q.steep != 0) return false;

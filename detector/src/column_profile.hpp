@@ -187,7 +187,10 @@ class ColumnProfiles {
   struct RingRun;
   [[nodiscard]] bool outer_end_sky(const Cloud& cloud, const RingRun& run, bool after) const;
   void mark_broken_silhouettes(const Cloud& cloud);
-  [[nodiscard]] std::size_t ring_neighbour(std::size_t i, bool after) const;
+  [[nodiscard]] std::size_t next_run(std::size_t i) const;
+  void mark_standing_out(const RingRun& run);
+  // The run gap at horizontal range `range_m`: run_gap_m + run_gap_per_m x range.
+  [[nodiscard]] float run_gap(float range_m) const { return p_.run_gap_m + p_.run_gap_per_m * range_m; }
   [[nodiscard]] bool stopped_by_face(const Cloud& cloud, std::size_t end,
                                      std::size_t nearer) const;
   void add_to_profile(float r, float z);
