@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace vlpground::detail {
@@ -35,6 +36,7 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   // Silhouettes first: an object standing out (a facade's ring line that the walk took past
   // a fence line) must not vouch for a single rise below it.
   remove_silhouettes(cloud);
+  drop_wall_lines(cloud);
   drop_refuted_rises(cloud);
   ground.resize(cloud.size());
   shadowed_.resize(cloud.size());
@@ -156,6 +158,53 @@ void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
     mark_standing_out(one);
     mark_standing_out(two);
   }
+}
+
+// A ring's line along a wall: a steep obstacle return high on its face (a lower ring of its
+// column met the same face, within the run gap in range, more than drop_m lower) carries
+// the object along its ring: the ground returns that follow it along the ring (in its run,
+// either way) level with it (at most wall_line_band_m under it, or over it) are that object
+// too, seen where no lower ring meets the face in their columns (a shed on a bank's top,
+// whose face the bank hides from the rings below: bank_s101 at Hi-Res). The line ends at a
+// steep return that is not high on its face (the ring came down to the face's foot), at a
+// ground return under the band, and at an obstacle return that is not steep: where a ring
+// runs along a ramp's retaining wall onto the street on its top, it crosses the wall's top
+// edge first (garage_s2).
+void ColumnProfiles::drop_wall_lines(const Cloud& cloud) {
+  refuted_.clear();
+  refuted_.reserve(points_.size());  // grown once, with the cloud
+  for (const RingRun& run : runs_) {
+    for (const bool forward : {true, false}) {
+      float face_z = std::numeric_limits<float>::quiet_NaN();
+      for (Index n = 0; n <= run.b - run.a; ++n) {
+        const Index i = forward ? run.a + n : run.b - n;
+        const ColumnPoint& q = points_[position_[i]];
+        if (q.steep != 0) {  // the face goes on: high on it, or down to its foot
+          face_z = q.ground == 0 && high_on_face(cloud, position_[i])
+                       ? q.z
+                       : std::numeric_limits<float>::quiet_NaN();
+        } else if (q.ground != 0 && q.z >= face_z - p_.wall_line_band_m) {
+          refuted_.push_back(position_[i]);  // (false while face_z is NaN)
+        } else {
+          face_z = std::numeric_limits<float>::quiet_NaN();
+        }
+      }
+    }
+  }
+  for (const std::uint32_t k : refuted_) points_[k].ground = 0;
+}
+
+// Whether column point k (steep) lies more than drop_m over a lower ring's return of its
+// column on the same face (within the run gap in range).
+bool ColumnProfiles::high_on_face(const Cloud& cloud, Index k) const {
+  const ColumnPoint& q = points_[k];
+  const Index begin = column_start_[cloud.column[q.index]];
+  const float gap = run_gap(q.r);
+  for (Index j = begin; j < k; ++j) {
+    const ColumnPoint& low = points_[j];
+    if (low.ring < q.ring && std::abs(low.r - q.r) <= gap && q.z - low.z > p_.drop_m) return true;
+  }
+  return false;
 }
 
 // Marks run `run`'s returns as standing out.

@@ -117,6 +117,9 @@ struct ProfileParams {
   // shadow_anchor_m on each side (a lone ground return on a fence line anchors nothing).
   // So are single rises under the ground the vehicle stands on (a levee's side).
   float shadow_band_m = 0.2f, shadow_anchor_m = 0.7f;
+  // A ring's line along a wall (drop_wall_lines): returns continuous along the ring with a
+  // steep return high on its face and at most this under it are the wall too.
+  float wall_line_band_m = 0.25f;
 };
 
 class ColumnProfiles {
@@ -168,6 +171,8 @@ class ColumnProfiles {
   [[nodiscard]] bool rise_refuted(const Cloud& cloud, std::size_t c, std::size_t a,
                                   std::size_t b) const;
   void drop_refuted_rises(const Cloud& cloud);
+  void drop_wall_lines(const Cloud& cloud);
+  [[nodiscard]] bool high_on_face(const Cloud& cloud, std::size_t k) const;
   void drop_raised_groups(std::size_t begin, std::size_t end);
   void check_single_rises(std::size_t begin, std::size_t end);
   void find_ring_runs(const Cloud& cloud, std::size_t strongest_end);

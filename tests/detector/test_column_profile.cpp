@@ -878,3 +878,36 @@ TEST_CASE("column profiles: past an obstacle, level with the ground before it is
   add(open, 4, 0, 24.f, -0.5f, 1);
   CHECK(label(open, {0.f, 3.f}).ground == std::vector<std::uint8_t>{1, 1});
 }
+
+TEST_CASE("column profiles: a ring's line running on from high on a wall is that wall",
+          "[detector][profiles]") {
+  // Sim bank_s101 (Hi-Res, frame 4): rings 0-3 climb a bank face at 0.35; ring 4 runs along
+  // a shed on the bank's top 16 m out. In columns 20-39 ring 3 meets the shed's face too,
+  // 0.6 m under ring 4 (ring 4 is high on the face); in columns 0-19 ring 3 meets the bank
+  // and ring 4, level with its hits on the face, is a gentle bend of the profile up the
+  // bank. Continuous along the ring with the face and level with it, it is the shed.
+  const auto scan = [](float far_z) {
+    Scan s;
+    for (int ring = 0; ring < 3; ++ring) {
+      const float r = 10.f + static_cast<float>(ring);
+      for (int col = 0; col < 40; ++col) add(s, ring, col, r, 0.35f * (r - 10.f), 1);
+    }
+    for (int col = 0; col < 40; ++col) {
+      add(s, 3, col, col < 20 ? 13.f : 16.f, col < 20 ? 1.05f : 1.3f, col < 20 ? 1 : 2);
+    }
+    for (int col = 0; col < 40; ++col) add(s, 4, col, 16.f, col < 20 ? far_z : 1.9f, 2);
+    return s;
+  };
+  const auto ring4_ground = [](const Scan& s) {
+    const auto ground = label(s).ground;
+    int taken = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      if (s.cloud.ring[i] == 4 && s.cloud.column[i] < 20) taken += ground[i];
+    }
+    return taken;
+  };
+  CHECK(ring4_ground(scan(1.9f)) == 0);
+  // Ring 4 leaving the face downwards (0.3 m under its last hit high on it) is not the
+  // wall's line going on: the bend up the bank stays ground.
+  CHECK(ring4_ground(scan(1.6f)) == 20);
+}
