@@ -652,15 +652,16 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       accept = true;
       // ... unless it still rises from the last ground return, bending no more than at any
       // return: a hill's shoulder, rising on at the measured gradient.
-      if (step >= p_.shoulder_gradient && step >= gradient - p_.gradient_step) {
+      const bool rising = step >= p_.shoulder_gradient;
+      if (rising && step >= gradient - p_.gradient_step) {
         next_gradient = step;
-        // ... but not under an overhang: the next ring of the column met something nearer
-        // and over this return's ray there (a tree crown on a bank's top, met from below:
-        // ground cannot lie over a ray that passed on under it).
-        if (k + 1 < end && under_overhang(q, points_[k + 1])) accept = false;
       } else {
         next_gradient_r = r;
       }
+      // ... but not under an overhang: the next ring of the column met something nearer
+      // and over this return's ray there (a tree crown on a bank's top, met from below:
+      // ground cannot lie over a ray that passed on under it).
+      if (rising && k + 1 < end && under_overhang(q, points_[k + 1])) accept = false;
     } else {
       const float rise = blocked           ? p_.blocked_rise_m + p_.blocked_rise_per_m * advance
                          : profile_size_ == 1 ? p_.start_rise_m + p_.start_rise_per_m * advance

@@ -911,3 +911,22 @@ TEST_CASE("column profiles: a ring's line running on from high on a wall is that
   // wall's line going on: the bend up the bank stays ground.
   CHECK(ring4_ground(scan(1.6f)) == 20);
 }
+
+TEST_CASE("column profiles: a return bending off a steep face under an overhang is no ground",
+          "[detector][profiles]") {
+  // Sim bank_s102 (frame 1): rings 0-4 climb a bank face steepening to 0.5; ring 5 lands
+  // 17 m past ring 4, still rising from it (0.14) but bending off the face by more than a
+  // shoulder may, so the walk takes it as a level surface beyond the face; ring 6 met a tree
+  // crown 3 m nearer and over ring 5's ray there: ring 5 passed on under the crown into it.
+  // The level-2 surface follows the face.
+  const auto ring5 = [](bool crown) {
+    Scan s;
+    const float r[] = {8.f, 9.f, 10.f, 11.f, 12.f, 29.f};
+    const float z[] = {0.f, 0.2f, 0.6f, 1.1f, 1.6f, 1.6f + 0.14f * 17.f};
+    for (int ring = 0; ring < 6; ++ring) add(s, ring, 0, r[ring], z[ring], ring < 5 ? 1 : 2);
+    add(s, 6, 0, crown ? 26.f : 40.f, crown ? 4.3f : 6.f, 2);
+    return label(s, std::vector<float>(s.cloud.size(), 0.f)).ground[5];
+  };
+  CHECK(ring5(false) == 1);  // nothing says the terrain did not rise on to meet the ray
+  CHECK(ring5(true) == 0);
+}
