@@ -521,13 +521,19 @@ bool ColumnProfiles::bends_on(Index k, Index end, float step, float bend) const 
 // ray, on a surface rising more steeply than that ray: each of the column's next
 // rising_ray_returns returns rises from the one before at least as steeply as the ray and
 // is not steep. Ground met by a rising ray rises so; a roof or a canopy is met from below.
-bool ColumnProfiles::rises_over_its_ray(Index k, Index end) const {
+// Fewer returns do where the column has no more (its higher rings went to the sky) and
+// only faces stood between k and the column's last ground return (`past_faces_only`): the
+// street seen over a ramp's retaining wall from inside the ramp, the wall hiding every
+// lower ring (garage at 5 Hz); not a facade seen past a car and refused returns that climb
+// to it (jam_s3).
+bool ColumnProfiles::rises_over_its_ray(Index k, Index end, bool past_faces_only) const {
   const ColumnPoint& q = points_[k];
   if (p_.sensor_z <= 0.f || q.z <= p_.sensor_z) return false;
   const float ray = (q.z - p_.sensor_z) / q.r;
   float from_r = q.r, from_z = q.z;
   int seen = 0;
-  for (Index j = k + 1; j < end && seen < p_.rising_ray_returns; ++j) {
+  Index j = k + 1;
+  for (; j < end && seen < p_.rising_ray_returns; ++j) {
     const ColumnPoint& next = points_[j];
     if (next.r < from_r + p_.min_advance_m) continue;
     const float gradient = (next.z - from_z) / (next.r - from_r);
@@ -536,7 +542,7 @@ bool ColumnProfiles::rises_over_its_ray(Index k, Index end) const {
     from_z = next.z;
     ++seen;
   }
-  return seen == p_.rising_ray_returns;
+  return seen == p_.rising_ray_returns || (past_faces_only && seen > 0 && j == end);
 }
 
 // Whether `above`, the column's next return (a higher ring), lies more than overhang_m
@@ -562,6 +568,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
   float gradient_r = 0.f;  // where the gradient holds (the start: level under the vehicle)
   bool blocked = false;  // an obstacle return since the last ground return
   bool obstacle_seen = false;  // an obstacle return since the start
+  bool faces_only = true;  // every obstacle return since the last ground return was steep
   int last_ring = -1;    // ring of the last ground return (-1: the start)
   // The farthest return of the rings below the current one, and of the current ring.
   float lower_far_r = 0.f, lower_far_z = 0.f, ring_far_r = 0.f, ring_far_z = 0.f;
@@ -588,7 +595,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     return profile_size_ <= 2 &&
            std::abs(bend) <= p_.resume_gradient_change + p_.resume_curvature_per_m * std::max(0.f, drift) &&
            ((std::abs(points_[k].level2_h) <= p_.single_rise_m && bends_on(k, end, step, bend)) ||
-            rises_over_its_ray(k, end));
+            rises_over_its_ray(k, end, faces_only));
   };
   profile_size_ = 0;
   add_to_profile(last_r, last_z);
@@ -672,7 +679,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // guess: resuming on it needs the level-2 surface not to disagree (a car roof seen
       // past a car side next to the sensor, in a jam), or ground rising over the sensor.
       const bool on_guess = profile_size_ > 1 || !(std::abs(q.level2_h) > p_.single_rise_m) ||
-                            rises_over_its_ray(k, end);
+                            rises_over_its_ray(k, end, faces_only);
       const bool resumes = blocked && (std::abs(step - gradient) <= p_.resume_gradient_change
                                            ? on_guess
                                            : resumes_bent(k, step, 0.5f * (last_r + r) - gradient_r));
@@ -692,12 +699,13 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
                        : 0;
       blocked = true;
       obstacle_seen = true;
+      faces_only = false;
       continue;
     }
     q.ground = 1;
     // Resumed past an obstacle as ground over the sensor where level 2 disagrees.
     q.rises_on = blocked && profile_size_ <= 2 && !(std::abs(q.level2_h) <= p_.single_rise_m) &&
-                 rises_over_its_ray(k, end);
+                 rises_over_its_ray(k, end, faces_only);
     q.kinked = step - gradient > p_.kink_gradient;
     q.resumed = blocked;
     // Ground level with the ground under the vehicle, no obstacle before it in the column:
@@ -719,6 +727,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     gradient = next_gradient;
     gradient_r = next_gradient_r;
     blocked = false;
+    faces_only = true;
     last_ring = q.ring;
   }
 }

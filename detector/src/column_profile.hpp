@@ -43,7 +43,8 @@ struct ProfileParams {
   // column's next rising_ray_returns returns each rise from the one before at least that
   // steeply, with no steep surface among them, the start's guess may resume there even if
   // the level-2 surface disagrees (the street seen over a ramp's parapet from inside the
-  // ramp, where level 2 follows the ramp).
+  // ramp, where level 2 follows the ramp). One such return is enough where the column ends
+  // there and only faces stood in front (rises_over_its_ray).
   int rising_ray_returns = 2;
   // ... and for the first return of a column, from the ground under the sensor.
   float start_rise_m = 0.25f, start_rise_per_m = 0.12f;
@@ -164,7 +165,7 @@ class ColumnProfiles {
                    const std::vector<float>& plane_height, std::vector<float>& height);
   [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
   [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
-  [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end) const;
+  [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end, bool past_faces_only) const;
   [[nodiscard]] bool under_overhang(const ColumnPoint& q, const ColumnPoint& above) const;
   [[nodiscard]] bool is_ground_neighbour(std::size_t k) const;
   [[nodiscard]] bool raised_over_level2(std::size_t k, float by) const;

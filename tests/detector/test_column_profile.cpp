@@ -578,20 +578,25 @@ TEST_CASE("column profiles: ground met by a rising ray rises more steeply than t
   // 21-71 m out, 2.7-7.8 m up in the vehicle frame (the vehicle is pitched down the ramp).
   // Level 2 follows the ramp, 1.5 m under the street. Each ring rises from the one before at
   // 0.1, more steeply than ring 6's ray (0.043): a surface met from above, ground. A roof
-  // levels off past its first return, and one rising return alone is not enough.
-  const auto street_over_parapet = [](float z7, bool ring8) {
+  // levels off past its first return. One rising return is enough only where the column
+  // ends there (its higher rings went to the sky) and only the parapet stood in front (sim
+  // garage_s203 at 5 Hz); a return past a car that climbs to a facade is not (jam_s3).
+  const auto street_over_parapet = [](float z7, bool ring8, bool car = false) {
     Scan s;
-    for (int ring = 0; ring <= 5; ++ring) {
+    for (int ring = 0; ring <= (car ? 4 : 5); ++ring) {
       add(s, ring, 0, 4.3f, 1.24f + 0.1f * static_cast<float>(ring), 2);
     }
+    if (car) add(s, 5, 0, 15.f, 1.f, 2);  // refused, not on a face
     add(s, 6, 0, 21.2f, 2.72f, 1);
     add(s, 7, 0, 32.6f, z7, 1);
     if (ring8) add(s, 8, 0, 71.3f, 7.8f, 1);
     return label(s, std::vector<float>(s.cloud.size(), 1.5f)).ground[6];
   };
   CHECK(street_over_parapet(3.87f, true) == 1);
-  CHECK(street_over_parapet(2.9f, true) == 0);    // levels off: met from below
-  CHECK(street_over_parapet(3.87f, false) == 0);  // one rising return
+  CHECK(street_over_parapet(2.9f, true) == 0);   // levels off: met from below
+  CHECK(street_over_parapet(3.87f, false) == 1);  // one rising return, then the sky
+  CHECK(street_over_parapet(3.87f, false, true) == 0);  // ... past a refused return
+  CHECK(street_over_parapet(3.87f, true, true) == 1);   // two rising returns are enough
 }
 
 TEST_CASE("column profiles: raised neighbours do not vouch for a bump standing out of both",
