@@ -4,11 +4,16 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <cstdio> // VLPG_DBG
+#include <cstdlib> // VLPG_DBG
 
 namespace vlpground::detail {
 
 namespace {
 using Index = std::size_t;
+
+// high_on_face: a hit this far over a lower ring's hit on the same face, itself an obstacle.
+constexpr float kFaceTwoRings_m = 0.4f;
 
 // Whether returns a and b lie at least `distance` apart horizontally.
 bool apart(const Cloud& cloud, Index a, Index b, float distance) {
@@ -52,6 +57,10 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
     shadowed[points[k].index] = points[k].shadowed;
   }
   for (const RingRun& run : runs_) fill_shadows(cloud, run.a, run.b + 1, ground);
+  if (std::getenv("VLPG_DBG")) { static int fr = 0; // VLPG_DBG
+    for (Index k = 0; k < points_.size(); ++k) { const ColumnPoint& q = points_[k]; // VLPG_DBG
+      std::fprintf(stderr, "D %d %u %u %.2f %.2f l2 %.3f g %d fin %d st %d sh %d kk %d re %d ro %d vg %d so %d\n", fr, q.ring, cloud.column[q.index], q.r, q.z, q.level2_h, q.ground, ground[q.index], q.steep, q.shadowed, q.kinked, q.resumed, q.rises_on, q.vehicle_ground, stands_out_.empty() ? 0 : stands_out_[q.index]); } // VLPG_DBG
+    ++fr; } // VLPG_DBG
 }
 
 // Along each ring (strongest layer), runs of returns continuous in space: the run [a, b]
@@ -195,14 +204,18 @@ void ColumnProfiles::drop_wall_lines(const Cloud& cloud) {
 }
 
 // Whether column point k (steep) lies more than drop_m over a lower ring's return of its
-// column on the same face (within the run gap in range).
+// column on the same face (within the run gap in range), or more than kFaceTwoRings_m over
+// one that is itself an obstacle on a steep face: the face is then two rings tall, and
+// rings 1.33 degrees apart (Puck Hi-Res) meet it only 0.45 m apart 20 m out (bank_s105).
 bool ColumnProfiles::high_on_face(const Cloud& cloud, Index k) const {
   const ColumnPoint& q = points_[k];
   const Index begin = column_start_[cloud.column[q.index]];
   const float gap = run_gap(q.r);
   for (Index j = begin; j < k; ++j) {
     const ColumnPoint& low = points_[j];
-    if (low.ring < q.ring && std::abs(low.r - q.r) <= gap && q.z - low.z > p_.drop_m) return true;
+    if (low.ring >= q.ring || std::abs(low.r - q.r) > gap) continue;
+    const bool low_on_face = low.steep != 0 && low.ground == 0;
+    if (q.z - low.z > (low_on_face ? kFaceTwoRings_m : p_.drop_m)) return true;
   }
   return false;
 }

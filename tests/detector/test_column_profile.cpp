@@ -891,14 +891,14 @@ TEST_CASE("column profiles: a ring's line running on from high on a wall is that
   // 0.6 m under ring 4 (ring 4 is high on the face); in columns 0-19 ring 3 meets the bank
   // and ring 4, level with its hits on the face, is a gentle bend of the profile up the
   // bank. Continuous along the ring with the face and level with it, it is the shed.
-  const auto scan = [](float far_z) {
+  const auto scan = [](float far_z, float face_low_z = 1.3f) {
     Scan s;
     for (int ring = 0; ring < 3; ++ring) {
       const float r = 10.f + static_cast<float>(ring);
       for (int col = 0; col < 40; ++col) add(s, ring, col, r, 0.35f * (r - 10.f), 1);
     }
     for (int col = 0; col < 40; ++col) {
-      add(s, 3, col, col < 20 ? 13.f : 16.f, col < 20 ? 1.05f : 1.3f, col < 20 ? 1 : 2);
+      add(s, 3, col, col < 20 ? 13.f : 16.f, col < 20 ? 1.05f : face_low_z, col < 20 ? 1 : 2);
     }
     for (int col = 0; col < 40; ++col) add(s, 4, col, 16.f, col < 20 ? far_z : 1.9f, 2);
     return s;
@@ -912,6 +912,9 @@ TEST_CASE("column profiles: a ring's line running on from high on a wall is that
     return taken;
   };
   CHECK(ring4_ground(scan(1.9f)) == 0);
+  // Sim bank_s105 at Hi-Res (rings 1.33 degrees apart): ring 3 meets the face only 0.45 m
+  // under ring 4, itself an obstacle on the face: ring 4 is high on a face two rings tall.
+  CHECK(ring4_ground(scan(1.9f, 1.45f)) == 0);
   // Ring 4 leaving the face downwards (0.3 m under its last hit high on it) is not the
   // wall's line going on: the bend up the bank stays ground.
   CHECK(ring4_ground(scan(1.6f)) == 20);
