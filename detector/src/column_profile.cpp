@@ -334,20 +334,25 @@ inline bool ColumnProfiles::long_ground_from(const Cloud& cloud, const std::vect
 }
 
 // Whether each return of [0, end) is continuous with the next one (run_column_gap,
-// run_gap_m + run_gap_per_m x range): one pass without branches, so that the compiler
-// vectorises it (the ring runs read it only within a ring).
+// run_gap_m + run_gap_per_m x range; one column more where both lie over the sensor: a tree
+// crown met by rising rays drops returns, the ground under the sensor is where real rings
+// drop out on dark asphalt): one pass without branches, so that the compiler vectorises it
+// (the ring runs read it only within a ring).
 void ColumnProfiles::mark_continuous(const Cloud& cloud, Index end) {
   continuous_.resize(end);
   const std::uint16_t* column = cloud.column.data();
   const float *range = cloud.range_xy.data(), *z = cloud.z.data();
   const int column_gap = p_.run_column_gap;
-  const float gap_m = p_.run_gap_m, gap_per_m = p_.run_gap_per_m;
+  const float gap_m = p_.run_gap_m, gap_per_m = p_.run_gap_per_m, sensor_z = p_.sensor_z;
   std::uint8_t* continuous = continuous_.data();
   for (Index a = 0; a + 1 < end; ++a) {
     const float dr = range[a + 1] - range[a], dz = z[a + 1] - z[a];
     const float limit = gap_m + gap_per_m * range[a];
-    continuous[a] = static_cast<std::uint8_t>((column[a + 1] - column[a] <= column_gap) &
-                                              (dr * dr + dz * dz <= limit * limit));
+    const int columns = column[a + 1] - column[a];
+    const bool over = (z[a] > sensor_z) & (z[a + 1] > sensor_z);
+    continuous[a] = static_cast<std::uint8_t>(
+        ((columns <= column_gap) | ((columns <= column_gap + 1) & over)) &
+        (dr * dr + dz * dz <= limit * limit));
   }
 }
 

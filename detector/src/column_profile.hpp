@@ -90,8 +90,8 @@ struct ProfileParams {
   // A steep return within steep_band_m of such a plane and this close to the profile is
   // the foot of a wall on ground the profile does not quite follow (a slope).
   float plane_foot_m = 0.5f;
-  // Runs along a ring: neighbours at most run_column_gap columns and run_gap_m +
-  // run_gap_per_m x range apart are continuous; a run no longer than silhouette_max_m
+  // Runs along a ring: neighbours at most run_column_gap columns (one more where both lie
+  // over the sensor) and run_gap_m + run_gap_per_m x range apart are continuous; a run no longer than silhouette_max_m
   // with both ends open (no return over sky_columns columns, or the next return farther
   // away) stands out as an object.
   int run_column_gap = 2;

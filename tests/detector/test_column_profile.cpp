@@ -938,3 +938,31 @@ TEST_CASE("column profiles: a return bending off a steep face under an overhang 
   CHECK(ring5(false) == 1);  // nothing says the terrain did not rise on to meet the ray
   CHECK(ring5(true) == 0);
 }
+
+TEST_CASE("column profiles: over the sensor a run goes on across two dropped columns",
+          "[detector][profiles]") {
+  // Sim bank_s5 (tilted mounting): rings 0-3 climb a bank face at 0.35; ring 4 meets a tree
+  // crown on the bank's top over columns 20-29, with the sky on both sides, and drops
+  // columns 24-25 (foliage). Taken by the walk as the top's ground (a shoulder), the crown is
+  // one short run open to the sky at both ends over the sensor: it stands out whole. Under
+  // the sensor two dropped columns still cut a ring's run (real rings drop out on dark
+  // asphalt), so the same line 0.1 m under the sensor keeps its labels.
+  const auto crown_ground = [](float z) {
+    Scan s;
+    for (int ring = 0; ring < 4; ++ring) {
+      const float r = 10.f + static_cast<float>(ring);
+      for (int col = 0; col < 60; ++col) add(s, ring, col, r, 0.35f * (r - 10.f), 1);
+    }
+    for (int col = 20; col < 30; ++col) {
+      if (col != 24 && col != 25) add(s, 4, col, 22.f, z, 2);
+    }
+    const auto ground = label(s, std::vector<float>(s.cloud.size(), 0.f)).ground;
+    int taken = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      if (s.cloud.ring[i] == 4) taken += ground[i];
+    }
+    return taken;
+  };
+  CHECK(crown_ground(2.6f) == 0);
+  CHECK(crown_ground(1.7f) == 8);
+}
