@@ -4,8 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <cstdio> // VLPG_DBG
-#include <cstdlib> // VLPG_DBG
 
 namespace vlpground::detail {
 
@@ -57,10 +55,6 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
     shadowed[points[k].index] = points[k].shadowed;
   }
   for (const RingRun& run : runs_) fill_shadows(cloud, run.a, run.b + 1, ground);
-  if (std::getenv("VLPG_DBG")) { static int fr = 0; // VLPG_DBG
-    for (Index k = 0; k < points_.size(); ++k) { const ColumnPoint& q = points_[k]; // VLPG_DBG
-      std::fprintf(stderr, "D %d %u %u %.2f %.2f l2 %.3f g %d fin %d st %d sh %d kk %d re %d ro %d vg %d so %d\n", fr, q.ring, cloud.column[q.index], q.r, q.z, q.level2_h, q.ground, ground[q.index], q.steep, q.shadowed, q.kinked, q.resumed, q.rises_on, q.vehicle_ground, stands_out_.empty() ? 0 : stands_out_[q.index]); } // VLPG_DBG
-    ++fr; } // VLPG_DBG
 }
 
 // Along each ring (strongest layer), runs of returns continuous in space: the run [a, b]
