@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 
@@ -24,6 +25,7 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
                            const std::vector<float>& plane_height, const ProfileParams& params,
                            std::vector<std::uint8_t>& ground, std::vector<float>& height) {
   p_ = params;
+  steep_ = steep;
   start_z_ = p_.sensor_z > 0.f ? 0.f : p_.vehicle.at(p_.sensor_x, p_.sensor_y);
   const Index strongest = strongest_end(cloud);
   // height: over level 2 until the walk puts each return's height over its profile there
@@ -69,7 +71,7 @@ void ColumnProfiles::find_ring_runs(const Cloud& cloud, Index strongest_end) {
     Index a = first;
     while (a < last) {
       Index b = a;
-      while (b + 1 < last && continuous_[b] != 0) ++b;
+      while (b + 1 < last && (continuous_[b] != 0 || bridged_over_sensor(cloud, b))) ++b;
       runs_.push_back({first, last, a, b});
       a = b + 1;
     }
@@ -177,24 +179,57 @@ void ColumnProfiles::drop_wall_lines(const Cloud& cloud) {
   refuted_.clear();
   refuted_.reserve(points_.size());  // grown once, with the cloud
   for (const RingRun& run : runs_) {
-    for (const bool forward : {true, false}) {
-      float face_z = std::numeric_limits<float>::quiet_NaN();
-      for (Index n = 0; n <= run.b - run.a; ++n) {
-        const Index i = forward ? run.a + n : run.b - n;
-        const ColumnPoint& q = points_[position_[i]];
-        if (q.steep != 0) {  // the face goes on: high on it, or down to its foot
-          face_z = q.ground == 0 && high_on_face(cloud, position_[i])
-                       ? q.z
-                       : std::numeric_limits<float>::quiet_NaN();
-        } else if (q.ground != 0 && q.z >= face_z - p_.wall_line_band_m) {
-          refuted_.push_back(position_[i]);  // (false while face_z is NaN)
-        } else {
-          face_z = std::numeric_limits<float>::quiet_NaN();
-        }
-      }
-    }
+    if (!ground_and_face(run)) continue;  // most runs are all ground or all obstacle
+    follow_wall_lines(cloud, run, true);
+    follow_wall_lines(cloud, run, false);
   }
   for (const std::uint32_t k : refuted_) points_[k].ground = 0;
+}
+
+// Whether run `run` holds both a ground return that is not steep and a steep obstacle
+// return. Steep returns are few: a search of the frame's steep flags in cloud order, 8 at a
+// time, rules most runs out first.
+bool ColumnProfiles::ground_and_face(const RingRun& run) const {
+  Index i = run.a;
+  const Index end = run.b + 1;
+  for (std::uint64_t word = 0; i + 8 <= end; i += 8) {
+    std::memcpy(&word, steep_ + i, sizeof word);
+    if (word != 0) break;
+  }
+  while (i < end && steep_[i] == 0) ++i;
+  if (i == end) return false;
+  bool ground = false, face = false;
+  for (Index j = run.a; j < end && !(ground && face); ++j) {
+    const ColumnPoint& q = points_[position_[j]];
+    ground = ground || (q.ground != 0 && q.steep == 0);
+    face = face || (q.ground == 0 && q.steep != 0);
+  }
+  return ground && face;
+}
+
+// One sweep of drop_wall_lines along run `run` (forward: in column order).
+void ColumnProfiles::follow_wall_lines(const Cloud& cloud, const RingRun& run, bool forward) {
+  // The last steep obstacle return of the line (kNone: no line); whether it is high on its
+  // face is asked only when a ground return follows it (walls are long).
+  Index face = kNone;
+  int high = -1;  // -1: not asked yet
+  for (Index n = 0; n <= run.b - run.a; ++n) {
+    const Index k = position_[forward ? run.a + n : run.b - n];
+    const ColumnPoint& q = points_[k];
+    if (q.steep != 0) {  // the face goes on: high on it, or down to its foot
+      face = q.ground == 0 ? k : kNone;
+      high = -1;
+      continue;
+    }
+    if (face != kNone && q.ground != 0 && q.z >= points_[face].z - p_.wall_line_band_m) {
+      if (high < 0) high = high_on_face(cloud, face) ? 1 : 0;
+      if (high != 0) {
+        refuted_.push_back(static_cast<std::uint32_t>(k));
+        continue;
+      }
+    }
+    face = kNone;
+  }
 }
 
 // Whether column point k (steep) lies more than drop_m over a lower ring's return of its
@@ -328,26 +363,33 @@ inline bool ColumnProfiles::long_ground_from(const Cloud& cloud, const std::vect
 }
 
 // Whether each return of [0, end) is continuous with the next one (run_column_gap,
-// run_gap_m + run_gap_per_m x range; one column more where both lie over the sensor: a tree
-// crown met by rising rays drops returns, the ground under the sensor is where real rings
-// drop out on dark asphalt): one pass without branches, so that the compiler vectorises it
-// (the ring runs read it only within a ring).
+// run_gap_m + run_gap_per_m x range): one pass without branches, so that the compiler
+// vectorises it (the ring runs read it only within a ring).
 void ColumnProfiles::mark_continuous(const Cloud& cloud, Index end) {
   continuous_.resize(end);
   const std::uint16_t* column = cloud.column.data();
   const float *range = cloud.range_xy.data(), *z = cloud.z.data();
   const int column_gap = p_.run_column_gap;
-  const float gap_m = p_.run_gap_m, gap_per_m = p_.run_gap_per_m, sensor_z = p_.sensor_z;
+  const float gap_m = p_.run_gap_m, gap_per_m = p_.run_gap_per_m;
   std::uint8_t* continuous = continuous_.data();
   for (Index a = 0; a + 1 < end; ++a) {
     const float dr = range[a + 1] - range[a], dz = z[a + 1] - z[a];
     const float limit = gap_m + gap_per_m * range[a];
-    const int columns = column[a + 1] - column[a];
-    const bool over = (z[a] > sensor_z) & (z[a + 1] > sensor_z);
-    continuous[a] = static_cast<std::uint8_t>(
-        ((columns <= column_gap) | ((columns <= column_gap + 1) & over)) &
-        (dr * dr + dz * dz <= limit * limit));
+    continuous[a] = static_cast<std::uint8_t>((column[a + 1] - column[a] <= column_gap) &
+                                              (dr * dr + dz * dz <= limit * limit));
   }
+}
+
+// Whether return a and the ring's next one, not continuous (mark_continuous), are so but
+// for one more dropped column, both over the sensor: a tree crown met by rising rays drops
+// returns (foliage); under the sensor real rings drop out on dark asphalt, and a road arc
+// merged across its drop-outs would make short runs open at both ends.
+bool ColumnProfiles::bridged_over_sensor(const Cloud& cloud, Index a) const {
+  if (cloud.z[a] <= p_.sensor_z || cloud.z[a + 1] <= p_.sensor_z) return false;
+  if (cloud.column[a + 1] - cloud.column[a] != p_.run_column_gap + 1) return false;
+  const float dr = cloud.range_xy[a + 1] - cloud.range_xy[a], dz = cloud.z[a + 1] - cloud.z[a];
+  const float limit = run_gap(cloud.range_xy[a]);
+  return dr * dr + dz * dz <= limit * limit;
 }
 
 // Run [a, b] of one ring (positions first..last): short, and both ends open to the sky or

@@ -174,6 +174,9 @@ class ColumnProfiles {
   void drop_refuted_rises(const Cloud& cloud);
   void drop_wall_lines(const Cloud& cloud);
   [[nodiscard]] bool high_on_face(const Cloud& cloud, std::size_t k) const;
+  struct RingRun;
+  [[nodiscard]] bool ground_and_face(const RingRun& run) const;
+  void follow_wall_lines(const Cloud& cloud, const RingRun& run, bool forward);
   void drop_raised_groups(std::size_t begin, std::size_t end);
   void check_single_rises(std::size_t begin, std::size_t end);
   void find_ring_runs(const Cloud& cloud, std::size_t strongest_end);
@@ -185,6 +188,7 @@ class ColumnProfiles {
   [[nodiscard]] bool long_ground_from(const Cloud& cloud, const std::vector<std::uint8_t>& ground,
                                       std::size_t i, std::size_t end) const;
   void mark_continuous(const Cloud& cloud, std::size_t end);
+  [[nodiscard]] bool bridged_over_sensor(const Cloud& cloud, std::size_t a) const;
   [[nodiscard]] bool stands_out(const Cloud& cloud, std::size_t first, std::size_t last,
                                 std::size_t a, std::size_t b) const;
   [[nodiscard]] std::size_t beyond_end(const Cloud& cloud, std::size_t first, std::size_t last,
@@ -203,6 +207,7 @@ class ColumnProfiles {
   [[nodiscard]] float profile_at(float r) const;
 
   ProfileParams p_;
+  const std::uint8_t* steep_ = nullptr;  // the frame's steep flags, by cloud point (label)
   float start_z_ = 0.f;  // the ground under the vehicle, where every column starts
   // The ground returns walked in the current column (the start under the sensor first).
   std::array<float, 2 * kLasers + 1> profile_r_{}, profile_z_{};
