@@ -381,11 +381,13 @@ void ColumnProfiles::mark_continuous(const Cloud& cloud, Index end) {
 }
 
 // Whether return a and the ring's next one, not continuous (mark_continuous), are so but
-// for one more dropped column, both over the sensor: a tree crown met by rising rays drops
-// returns (foliage); under the sensor real rings drop out on dark asphalt, and a road arc
-// merged across its drop-outs would make short runs open at both ends.
+// for one more dropped column, both more than drop_m over the sensor: a tree crown met by
+// rising rays drops returns (foliage); lower down real rings drop out on dark asphalt, and a
+// road arc (or the floor under a sensor standing on it, vlp16_dual_close_range) merged
+// across its drop-outs would make short runs open at both ends.
 bool ColumnProfiles::bridged_over_sensor(const Cloud& cloud, Index a) const {
-  if (cloud.z[a] <= p_.sensor_z || cloud.z[a + 1] <= p_.sensor_z) return false;
+  const float over = p_.sensor_z + p_.drop_m;  // clearly over: not a floor the sensor stands on
+  if (cloud.z[a] <= over || cloud.z[a + 1] <= over) return false;
   if (cloud.column[a + 1] - cloud.column[a] != p_.run_column_gap + 1) return false;
   const float dr = cloud.range_xy[a + 1] - cloud.range_xy[a], dz = cloud.z[a + 1] - cloud.z[a];
   const float limit = run_gap(cloud.range_xy[a]);

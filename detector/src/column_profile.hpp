@@ -91,7 +91,7 @@ struct ProfileParams {
   // the foot of a wall on ground the profile does not quite follow (a slope).
   float plane_foot_m = 0.5f;
   // Runs along a ring: neighbours at most run_column_gap columns (one more where both lie
-  // over the sensor) and run_gap_m + run_gap_per_m x range apart are continuous; a run no longer than silhouette_max_m
+  // more than drop_m over the sensor) and run_gap_m + run_gap_per_m x range apart are continuous; a run no longer than silhouette_max_m
   // with both ends open (no return over sky_columns columns, or the next return farther
   // away) stands out as an object.
   int run_column_gap = 2;
