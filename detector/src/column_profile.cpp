@@ -19,6 +19,13 @@ bool apart(const Cloud& cloud, Index a, Index b, float distance) {
   const float dx = cloud.x[b] - cloud.x[a], dy = cloud.y[b] - cloud.y[a];
   return dx * dx + dy * dy >= distance * distance;
 }
+
+// Whether returns a and b lie within `limit` of each other in horizontal range and height
+// (the run gap's test; mark_continuous does the same inline, vectorised).
+bool close_in_range_and_height(const Cloud& cloud, Index a, Index b, float limit) {
+  const float dr = cloud.range_xy[b] - cloud.range_xy[a], dz = cloud.z[b] - cloud.z[a];
+  return dr * dr + dz * dz <= limit * limit;
+}
 }  // namespace
 
 void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
@@ -93,8 +100,7 @@ bool ColumnProfiles::continuous_across_edge(const Cloud& cloud, Index end, Index
   const int columns = static_cast<int>(column_start_.size()) - 1;
   const int gap = static_cast<int>(cloud.column[start]) + columns - static_cast<int>(cloud.column[end]);
   const float limit = kEdgeMotionSlack * run_gap(cloud.range_xy[end]);
-  const float dr = cloud.range_xy[start] - cloud.range_xy[end], dz = cloud.z[start] - cloud.z[end];
-  return gap <= p_.run_column_gap && dr * dr + dz * dz <= limit * limit &&
+  return gap <= p_.run_column_gap && close_in_range_and_height(cloud, end, start, limit) &&
          !apart(cloud, end, start, limit);
 }
 
@@ -388,10 +394,8 @@ void ColumnProfiles::mark_continuous(const Cloud& cloud, Index end) {
 bool ColumnProfiles::bridged_over_sensor(const Cloud& cloud, Index a) const {
   const float over = p_.sensor_z + p_.drop_m;  // clearly over: not a floor the sensor stands on
   if (cloud.z[a] <= over || cloud.z[a + 1] <= over) return false;
-  if (cloud.column[a + 1] - cloud.column[a] != p_.run_column_gap + 1) return false;
-  const float dr = cloud.range_xy[a + 1] - cloud.range_xy[a], dz = cloud.z[a + 1] - cloud.z[a];
-  const float limit = run_gap(cloud.range_xy[a]);
-  return dr * dr + dz * dz <= limit * limit;
+  return cloud.column[a + 1] - cloud.column[a] == p_.run_column_gap + 1 &&
+         close_in_range_and_height(cloud, a, a + 1, run_gap(cloud.range_xy[a]));
 }
 
 // Run [a, b] of one ring (positions first..last): short, and both ends open to the sky or

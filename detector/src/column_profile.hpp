@@ -91,9 +91,9 @@ struct ProfileParams {
   // the foot of a wall on ground the profile does not quite follow (a slope).
   float plane_foot_m = 0.5f;
   // Runs along a ring: neighbours at most run_column_gap columns (one more where both lie
-  // more than drop_m over the sensor) and run_gap_m + run_gap_per_m x range apart are continuous; a run no longer than silhouette_max_m
-  // with both ends open (no return over sky_columns columns, or the next return farther
-  // away) stands out as an object.
+  // more than drop_m over the sensor) and run_gap_m + run_gap_per_m x range apart are
+  // continuous; a run no longer than silhouette_max_m with both ends open (no return over
+  // sky_columns columns, or the next return farther away) stands out as an object.
   int run_column_gap = 2;
   float run_gap_m = 0.3f, run_gap_per_m = 0.02f;
   float silhouette_max_m = 6.f;
@@ -172,11 +172,6 @@ class ColumnProfiles {
   [[nodiscard]] bool rise_refuted(const Cloud& cloud, std::size_t c, std::size_t a,
                                   std::size_t b) const;
   void drop_refuted_rises(const Cloud& cloud);
-  void drop_wall_lines(const Cloud& cloud);
-  [[nodiscard]] bool high_on_face(const Cloud& cloud, std::size_t k) const;
-  struct RingRun;
-  [[nodiscard]] bool ground_and_face(const RingRun& run) const;
-  void follow_wall_lines(const Cloud& cloud, const RingRun& run, bool forward);
   void drop_raised_groups(std::size_t begin, std::size_t end);
   void check_single_rises(std::size_t begin, std::size_t end);
   void find_ring_runs(const Cloud& cloud, std::size_t strongest_end);
@@ -196,6 +191,10 @@ class ColumnProfiles {
   [[nodiscard]] bool end_open(const Cloud& cloud, std::size_t end, std::size_t beyond, int gap) const;
   struct RingRun;
   [[nodiscard]] bool outer_end_sky(const Cloud& cloud, const RingRun& run, bool after) const;
+  void drop_wall_lines(const Cloud& cloud);
+  [[nodiscard]] bool ground_and_face(const RingRun& run) const;
+  void follow_wall_lines(const Cloud& cloud, const RingRun& run, bool forward);
+  [[nodiscard]] bool high_on_face(const Cloud& cloud, std::size_t k) const;
   void mark_broken_silhouettes(const Cloud& cloud);
   [[nodiscard]] std::size_t next_run(std::size_t i) const;
   void mark_standing_out(const RingRun& run);

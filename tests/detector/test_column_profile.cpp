@@ -314,6 +314,25 @@ Scan bank_face() {
   return s;
 }
 
+// Rings 0 .. rings - 1 up a bank face rising at 0.35 from 10 m, a metre apart, over columns
+// 0 .. columns - 1 (sim bank: the face the top rings leave for the bank's top).
+void add_bank_rings(Scan& s, int rings, int columns) {
+  for (int ring = 0; ring < rings; ++ring) {
+    const float r = 10.f + static_cast<float>(ring);
+    for (int col = 0; col < columns; ++col) add(s, ring, col, r, 0.35f * (r - 10.f), 1);
+  }
+}
+
+// How many returns of ring `ring` in columns before `column_end` are labelled ground.
+int ground_on_ring(const Scan& s, const std::vector<std::uint8_t>& ground, int ring,
+                   int column_end = kColumns) {
+  int taken = 0;
+  for (std::size_t i = 0; i < ground.size(); ++i) {
+    if (s.cloud.ring[i] == ring && s.cloud.column[i] < column_end) taken += ground[i];
+  }
+  return taken;
+}
+
 // A bowl z = 0.004 r^2 seen by five rings (6, 8, 11, 15, 20 m) over 60 columns 1 degree
 // apart; in columns 20-39 a box 5 m out hides rings 0-3 and ring 4 sees the bowl past it
 // at `shadow_z` (1.6 m: the bowl; higher: something standing on it).
@@ -762,21 +781,13 @@ TEST_CASE("column profiles: a rising ray passing on beside a face the next colum
   // met the face nearer, climbing more steeply than face_over_ray x the ray.
   const auto bush_ground = [](float face_z) {
     Scan s;
-    for (int ring = 0; ring < 4; ++ring) {
-      const float r = 10.f + static_cast<float>(ring);
-      for (int col = 0; col < 60; ++col) add(s, ring, col, r, 0.35f * (r - 10.f), 1);
-    }
+    add_bank_rings(s, 4, 60);
     const float ray = (1.925f - 1.8f) / 15.5f;  // ring 4's slope over the sensor (1.8 m)
     for (int col = 20; col < 60; ++col) {
       if (col < 30) add(s, 4, col, 26.f, 1.8f + ray * 26.f, 2);
       else add(s, 4, col, 15.5f, face_z, face_z < 3.f ? 1 : 2);
     }
-    const auto ground = label(s).ground;
-    int bush = 0;
-    for (std::size_t i = 0; i < ground.size(); ++i) {
-      if (s.cloud.ring[i] == 4 && s.cloud.column[i] < 30) bush += ground[i];
-    }
-    return bush;
+    return ground_on_ring(s, label(s).ground, 4, 30);
   };
   CHECK(bush_ground(1.925f) == 0);  // the face going on at 0.35, the ray at 0.008
   // Where ring 4 met no ground nearer (a car roof 4 m up, refused as a step), nothing says
@@ -893,24 +904,14 @@ TEST_CASE("column profiles: a ring's line running on from high on a wall is that
   // bank. Continuous along the ring with the face and level with it, it is the shed.
   const auto scan = [](float far_z, float face_low_z = 1.3f) {
     Scan s;
-    for (int ring = 0; ring < 3; ++ring) {
-      const float r = 10.f + static_cast<float>(ring);
-      for (int col = 0; col < 40; ++col) add(s, ring, col, r, 0.35f * (r - 10.f), 1);
-    }
+    add_bank_rings(s, 3, 40);
     for (int col = 0; col < 40; ++col) {
       add(s, 3, col, col < 20 ? 13.f : 16.f, col < 20 ? 1.05f : face_low_z, col < 20 ? 1 : 2);
     }
     for (int col = 0; col < 40; ++col) add(s, 4, col, 16.f, col < 20 ? far_z : 1.9f, 2);
     return s;
   };
-  const auto ring4_ground = [](const Scan& s) {
-    const auto ground = label(s).ground;
-    int taken = 0;
-    for (std::size_t i = 0; i < ground.size(); ++i) {
-      if (s.cloud.ring[i] == 4 && s.cloud.column[i] < 20) taken += ground[i];
-    }
-    return taken;
-  };
+  const auto ring4_ground = [](const Scan& s) { return ground_on_ring(s, label(s).ground, 4, 20); };
   CHECK(ring4_ground(scan(1.9f)) == 0);
   // Sim bank_s105 at Hi-Res (rings 1.33 degrees apart): ring 3 meets the face only 0.45 m
   // under ring 4, itself an obstacle on the face: ring 4 is high on a face two rings tall.
@@ -949,19 +950,11 @@ TEST_CASE("column profiles: over the sensor a run goes on across two dropped col
   // asphalt), so the same line 0.1 m under the sensor keeps its labels.
   const auto crown_ground = [](float z) {
     Scan s;
-    for (int ring = 0; ring < 4; ++ring) {
-      const float r = 10.f + static_cast<float>(ring);
-      for (int col = 0; col < 60; ++col) add(s, ring, col, r, 0.35f * (r - 10.f), 1);
-    }
+    add_bank_rings(s, 4, 60);
     for (int col = 20; col < 30; ++col) {
       if (col != 24 && col != 25) add(s, 4, col, 22.f, z, 2);
     }
-    const auto ground = label(s, std::vector<float>(s.cloud.size(), 0.f)).ground;
-    int taken = 0;
-    for (std::size_t i = 0; i < ground.size(); ++i) {
-      if (s.cloud.ring[i] == 4) taken += ground[i];
-    }
-    return taken;
+    return ground_on_ring(s, label(s, std::vector<float>(s.cloud.size(), 0.f)).ground, 4);
   };
   CHECK(crown_ground(2.6f) == 0);
   CHECK(crown_ground(1.7f) == 8);
