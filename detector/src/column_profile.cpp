@@ -29,10 +29,12 @@ bool close_in_range_and_height(const Cloud& cloud, Index a, Index b, float limit
 }  // namespace
 
 void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
+                           const Level2Coverage& level2,
                            const std::vector<float>& plane_height, const ProfileParams& params,
                            std::vector<std::uint8_t>& ground, std::vector<float>& height) {
   p_ = params;
   steep_ = steep;
+  level2_ = level2;
   start_z_ = p_.sensor_z > 0.f ? 0.f : p_.vehicle.at(p_.sensor_x, p_.sensor_y);
   const Index strongest = strongest_end(cloud);
   // height: over level 2 until the walk puts each return's height over its profile there
@@ -870,10 +872,12 @@ void ColumnProfiles::drop_refuted_rises(const Cloud& cloud) {
 }
 
 // A group of consecutive raised ground returns of a column (over half single_rise_m above
-// the level-2 surface, along at most bump_group_max_m), each standing more than drop_m over
-// the ground both before it (or the start) and after it, is an object the walk climbed (a
-// car roof, a fence top seen by two rings): its members vouch for each other under rule 4,
-// so the group is dropped whole.
+// the level-2 surface), whose members vouch for each other under rule 4, is an object the
+// walk climbed and is dropped whole when
+// - it lies along at most bump_group_max_m and each member stands more than drop_m over the
+//   ground both before it (or the start) and after it (a car roof, a fence top seen by two
+//   rings), or
+// - it ends the column as an object's top (top_at_column_end).
 void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
   auto raised = [&](Index k) { return raised_over_level2(k, 0.5f * p_.single_rise_m); };
   float before_z = start_z_;
@@ -890,18 +894,43 @@ void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
       if (!raised(after)) break;
       last = after;
     }
+    bool drop = after == end && top_at_column_end(k, last);
     if (after < end && points_[last].r - points_[k].r <= p_.bump_group_max_m) {
       const float floor_z = std::max(before_z, points_[after].z) + p_.drop_m;
-      bool stands = true;
-      for (Index g = k; g <= last && stands; ++g) {
-        stands = !is_ground_neighbour(g) || points_[g].z > floor_z;
+      drop = true;
+      for (Index g = k; g <= last && drop; ++g) {
+        drop = !is_ground_neighbour(g) || points_[g].z > floor_z;
       }
-      for (Index g = k; g <= last && stands; ++g) {
-        if (is_ground_neighbour(g)) points_[g].ground = 0;
-      }
+    }
+    for (Index g = k; g <= last && drop; ++g) {
+      if (is_ground_neighbour(g)) points_[g].ground = 0;
     }
     k = after;
   }
+}
+
+// Whether the raised group [first, last] that ends its column (no ground return after it)
+// is an object's top: it resumed past an obstacle, so nothing before or after it in the
+// column confirms it (a fence line, a barrier or a car roof seen over the one in front);
+// the level-2 surface lies more than single_rise_m under one of its members where that
+// surface was fitted to ground of its own (Level2Coverage: not inherited or
+// extrapolated); and every member stands more than half single_rise_m over the start (not
+// the vehicle's road going on past a car, a ramp's street level) and under the sensor (a
+// top met from above lies under the sensor; ground that climbs over the sensor's height, a
+// bank or the street over a ramp's parapet, is met by rising rays).
+bool ColumnProfiles::top_at_column_end(Index first, Index last) const {
+  if (points_[first].resumed == 0 || p_.sensor_z <= 0.f) return false;
+  bool high = false;
+  for (Index g = first; g <= last; ++g) {
+    if (!is_ground_neighbour(g)) continue;
+    const ColumnPoint& q = points_[g];
+    if (!level2_.measured(q.index) || q.z - start_z_ <= 0.5f * p_.single_rise_m ||
+        q.z >= p_.sensor_z) {
+      return false;
+    }
+    high = high || raised_over_level2(g, p_.single_rise_m);
+  }
+  return high;
 }
 
 // A ground return raised over the level-2 surface (by single_rise_m, or by kink_rise_m when

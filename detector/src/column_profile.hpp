@@ -129,8 +129,9 @@ class ColumnProfiles {
   /// the profile. On entry height[i] is the point's height over the level-2 surface (NaN:
   /// none); `plane_height` the same where that surface is a level-1 plane explaining its
   /// cell (NaN elsewhere). Allocates nothing once the buffers have grown to the largest frame.
-  void label(const Cloud& cloud, const std::uint8_t* steep, const std::vector<float>& plane_height,
-             const ProfileParams& params,
+  /// `level2`: where the level-2 surface has ground of its own.
+  void label(const Cloud& cloud, const std::uint8_t* steep, const Level2Coverage& level2,
+             const std::vector<float>& plane_height, const ProfileParams& params,
              std::vector<std::uint8_t>& ground, std::vector<float>& height);
 
  private:
@@ -173,6 +174,7 @@ class ColumnProfiles {
                                   std::size_t b) const;
   void drop_refuted_rises(const Cloud& cloud);
   void drop_raised_groups(std::size_t begin, std::size_t end);
+  [[nodiscard]] bool top_at_column_end(std::size_t first, std::size_t last) const;
   void check_single_rises(std::size_t begin, std::size_t end);
   void find_ring_runs(const Cloud& cloud, std::size_t strongest_end);
   void remove_silhouettes(const Cloud& cloud);
@@ -207,6 +209,7 @@ class ColumnProfiles {
 
   ProfileParams p_;
   const std::uint8_t* steep_ = nullptr;  // the frame's steep flags, by cloud point (label)
+  Level2Coverage level2_;  // where the level-2 surface has ground of its own (label)
   float start_z_ = 0.f;  // the ground under the vehicle, where every column starts
   // The ground returns walked in the current column (the start under the sensor first).
   std::array<float, 2 * kLasers + 1> profile_r_{}, profile_z_{};

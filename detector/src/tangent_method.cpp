@@ -322,6 +322,7 @@ class TangentMethod final : public Method {
     const float none = std::nanf("");
     if (with_cells) {
       // Without branches: whether a return has a bin is as unpredictable as its cell's fate.
+      // Without branches: whether a return has a bin is as unpredictable as its cell's fate.
       const std::int32_t* const bin = binning_.point_bin().data();
       const float* const over = height_.data();
       for (Index i = 0; i < cloud.size(); ++i) {
@@ -331,7 +332,9 @@ class TangentMethod final : public Method {
     } else {
       std::fill(plane_height_.begin(), plane_height_.end(), none);
     }
-    profiles_.label(cloud, steep_.data(), plane_height_, pp, ground_, height_);
+    const Level2Coverage coverage =
+        with_cells ? cells_.coverage(binning_.point_bin().data()) : Level2Coverage{};
+    profiles_.label(cloud, steep_.data(), coverage, plane_height_, pp, ground_, height_);
   }
 
   [[nodiscard]] CellParams cell_params() const {

@@ -72,8 +72,10 @@ struct Labels {
 };
 
 // Labels a scan with the mounting height known; `level2` and `plane` default to a level-2
-// surface at z = 0 and no trusted level-1 plane.
-Labels label(const Scan& s, std::vector<float> level2 = {}, std::vector<float> plane = {}) {
+// surface at z = 0 and no trusted level-1 plane; with `measured` the level-2 surface has
+// ground of its own under every return.
+Labels label(const Scan& s, std::vector<float> level2 = {}, std::vector<float> plane = {},
+             bool measured = false) {
   if (level2.empty()) level2.assign(s.cloud.size(), 0.f);
   if (plane.empty()) plane.assign(s.cloud.size(), std::nanf(""));
   std::vector<std::uint8_t> steep;
@@ -83,7 +85,12 @@ Labels label(const Scan& s, std::vector<float> level2 = {}, std::vector<float> p
   ColumnProfiles profiles;
   Labels out;
   out.height = level2;  // heights over the level-2 surface on entry
-  profiles.label(s.cloud, steep.data(), plane, p, out.ground, out.height);
+  // Every return in fitting bin 0, whose cell 0 is measured, or no bin at all.
+  const std::vector<std::int32_t> point_bin(s.cloud.size(), measured ? 0 : -1);
+  const std::int32_t cell_of_bin[] = {0};
+  const std::uint8_t cell_facts[] = {kCellMeasured};
+  const Level2Coverage coverage{point_bin.data(), cell_of_bin, cell_facts};
+  profiles.label(s.cloud, steep.data(), coverage, plane, p, out.ground, out.height);
   return out;
 }
 
@@ -700,6 +707,37 @@ TEST_CASE("column profiles: a group of raised returns standing out of the ground
   CHECK(roof(0.4f) == std::vector<std::uint8_t>{1, 1, 1, 1, 1});
   // Longer than bump_group_max_m: a rise of the terrain, left to rule 4.
   CHECK(roof(0.65f, 6.f) == std::vector<std::uint8_t>{1, 1, 1, 1, 1});
+}
+
+TEST_CASE("column profiles: raised returns ending a column past an obstacle are an object's top",
+          "[detector][profiles]") {
+  // Sim fences_s101: ring 0 on the road 7.4 m out, rings 1-4 on a 1 m wall 8.1 m out;
+  // rings 5 and 6 pass over it to the tops of fences 18 and 25 m out (`z5`, `z6` over the
+  // road), taken as a gentle rise past the wall and vouching for each other (rule 4);
+  // the higher rings go to the sky. The level-2 surface lies at `level2_z`.
+  const auto top_kept = [](float z5, float z6, bool measured, float level2_z = 0.f) {
+    Scan s;
+    add(s, 0, 0, 7.4f, 0.f, 1);
+    for (int ring = 1; ring <= 4; ++ring) {
+      add(s, ring, 0, 8.1f, 0.1f + 0.29f * static_cast<float>(ring - 1), 2);
+    }
+    add(s, 5, 0, 17.9f, z5, 2);
+    add(s, 6, 0, 25.f, z6, 2);
+    std::vector<float> level2(s.cloud.size());
+    for (std::size_t i = 0; i < level2.size(); ++i) level2[i] = s.cloud.z[i] - level2_z;
+    const Labels out = label(s, level2, {}, measured);
+    REQUIRE(out.ground[0] == 1);
+    return std::vector<int>{out.ground[5], out.ground[6]};
+  };
+  // The level-2 cells there have ground of their own and lie under the tops: dropped.
+  CHECK(top_kept(0.41f, 0.66f, true) == std::vector<int>{0, 0});
+  // Cells without ground of their own (inherited, or past the fitting area): kept.
+  CHECK(top_kept(0.41f, 0.66f, false) == std::vector<int>{1, 1});
+  // Ground climbing over the sensor (1.8 m; a bank's face, where the cells lag): kept.
+  CHECK(top_kept(0.5f, 1.9f, true) == std::vector<int>{1, 1});
+  // Level with the ground under the vehicle where the cells lie 1 m lower (a ramp's
+  // street level going on past a car): kept.
+  CHECK(top_kept(0.05f, 0.1f, true, -1.f) == std::vector<int>{1, 1});
 }
 
 TEST_CASE("column profiles: a rise the neighbouring columns saw the ground under is refuted",
