@@ -881,10 +881,11 @@ void ColumnProfiles::drop_refuted_rises(const Cloud& cloud) {
 void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
   auto raised = [&](Index k) { return raised_over_level2(k, 0.5f * p_.single_rise_m); };
   float before_z = start_z_;
+  bool ground_before = false;
   Index k = begin;
   while (k < end) {
     if (!is_ground_neighbour(k) || !raised(k)) {
-      if (is_ground_neighbour(k)) before_z = points_[k].z;
+      if (is_ground_neighbour(k)) before_z = points_[k].z, ground_before = true;
       ++k;
       continue;
     }
@@ -894,7 +895,7 @@ void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
       if (!raised(after)) break;
       last = after;
     }
-    bool drop = after == end && top_at_column_end(k, last);
+    bool drop = after == end && top_at_column_end(k, last, !ground_before);
     if (after < end && points_[last].r - points_[k].r <= p_.bump_group_max_m) {
       const float floor_z = std::max(before_z, points_[after].z) + p_.drop_m;
       drop = true;
@@ -910,22 +911,32 @@ void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
 }
 
 // Whether the raised group [first, last] that ends its column (no ground return after it)
-// is an object's top: it resumed past an obstacle, so nothing before or after it in the
-// column confirms it (a fence line, a barrier or a car roof seen over the one in front);
-// the level-2 surface lies more than single_rise_m under one of its members where that
-// surface was fitted to ground of its own (Level2Coverage: not inherited or
-// extrapolated); and every member stands more than half single_rise_m over the start (not
-// the vehicle's road going on past a car, a ramp's street level) and under the sensor (a
-// top met from above lies under the sensor; ground that climbs over the sensor's height, a
-// bank or the street over a ramp's parapet, is met by rising rays).
-bool ColumnProfiles::top_at_column_end(Index first, Index last) const {
-  if (points_[first].resumed == 0 || p_.sensor_z <= 0.f) return false;
+// is an object's top the walk took, not confirmed by the column before it either:
+// - it resumed past an obstacle, every return more than half single_rise_m over the start
+//   (a fence line, a barrier or a car roof seen over the one in front; level with the
+//   start it is the vehicle's road going on past a car, a ramp's street level), or
+// - it holds the column's first ground returns (`column_first`), met by at most two rings
+//   before any return resumed past an obstacle, every return more than drop_m over the
+//   start (a barrier's top met by a Puck Hi-Res's two lowest rings, whose ground lies
+//   beyond it; three rings or more climbing are a bank's face);
+// and the level-2 surface lies more than single_rise_m under one of its returns where that
+// surface was fitted to ground of its own (Level2Coverage: not inherited or extrapolated),
+// every return under the sensor (a top met from above lies under the sensor; ground that
+// climbs over the sensor's height, a bank's face where the cells lag or the street over a
+// ramp's parapet, is met by rising rays).
+bool ColumnProfiles::top_at_column_end(Index first, Index last, bool column_first) const {
+  const bool resumed = points_[first].resumed != 0;
+  if (!(resumed || column_first) || p_.sensor_z <= 0.f) return false;
+  const float over_start = resumed ? 0.5f * p_.single_rise_m : p_.drop_m;
   bool high = false;
+  int first_returns = 0;  // the column's first ground returns (none resumed past an obstacle)
+  bool before_resumed = true;
   for (Index g = first; g <= last; ++g) {
     if (!is_ground_neighbour(g)) continue;
     const ColumnPoint& q = points_[g];
-    if (!level2_.measured(q.index) || q.z - start_z_ <= 0.5f * p_.single_rise_m ||
-        q.z >= p_.sensor_z) {
+    before_resumed = before_resumed && q.resumed == 0;
+    if (!resumed && before_resumed && ++first_returns > 2) return false;
+    if (!level2_.measured(q.index) || q.z - start_z_ <= over_start || q.z >= p_.sensor_z) {
       return false;
     }
     high = high || raised_over_level2(g, p_.single_rise_m);

@@ -740,6 +740,26 @@ TEST_CASE("column profiles: raised returns ending a column past an obstacle are 
   CHECK(top_kept(0.05f, 0.1f, true, -1.f) == std::vector<int>{1, 1});
 }
 
+TEST_CASE("column profiles: a column's first two returns on a top, nothing after, are an object",
+          "[detector][profiles]") {
+  // Sim fences_s3 at Hi-Res: the two lowest rings meet a 0.7 m barrier 7.7 m out (its face
+  // just under the top edge, then the top), the rings above pass over it to obstacles or
+  // the sky; the level-2 surface lies at z = 0 and has ground of its own.
+  const auto kept = [](std::vector<std::pair<float, float>> returns) {
+    Scan s;
+    for (std::size_t ring = 0; ring < returns.size(); ++ring) {
+      add(s, static_cast<int>(ring), 0, returns[ring].first, returns[ring].second, 2);
+    }
+    const Labels out = label(s, s.cloud.z, {}, true);  // heights over the surface at z = 0
+    return std::vector<int>(out.ground.begin(), out.ground.end());
+  };
+  CHECK(kept({{7.7f, 0.56f}, {7.9f, 0.71f}}) == std::vector<int>{0, 0});
+  // Three rings climbing: a bank's face next to the road (the cells lag it): kept.
+  CHECK(kept({{6.56f, 0.58f}, {6.81f, 0.7f}, {7.04f, 0.83f}}) == std::vector<int>{1, 1, 1});
+  // At most drop_m over the start: a hump the road may have, left to the other rules.
+  CHECK(kept({{7.7f, 0.3f}, {7.9f, 0.4f}}) == std::vector<int>{1, 1});
+}
+
 TEST_CASE("column profiles: a rise the neighbouring columns saw the ground under is refuted",
           "[detector][profiles]") {
   // Sim fences_s103: ring 0 on the road 8 m out, ring 1 on a low fence 10 m out (0.2 m up),
