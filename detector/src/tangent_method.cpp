@@ -322,7 +322,6 @@ class TangentMethod final : public Method {
     const float none = std::nanf("");
     if (with_cells) {
       // Without branches: whether a return has a bin is as unpredictable as its cell's fate.
-      // Without branches: whether a return has a bin is as unpredictable as its cell's fate.
       const std::int32_t* const bin = binning_.point_bin().data();
       const float* const over = height_.data();
       for (Index i = 0; i < cloud.size(); ++i) {

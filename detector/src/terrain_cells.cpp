@@ -539,7 +539,7 @@ void TerrainCells::fit(const Candidates& cand, const std::vector<std::int32_t>& 
   const Index cells = idx(side_ * side_);
   surface_.assign(cells, HeightPlane{});
   state_.assign(cells, CellState::unvisited);
-  facts_.assign(cells, 0);
+  replace_.assign(cells, 0);
   queue_.resize(cells);
   replaced_ = 0;
   auto level1_at = [&](float x, float y) {
@@ -553,7 +553,6 @@ void TerrainCells::fit(const Candidates& cand, const std::vector<std::int32_t>& 
   if (segment_explained_[0] && segment_explained_[1] && segment_explained_[2] &&
       segment_explained_[3]) {
     std::fill(state_.begin(), state_.end(), CellState::level1);
-    std::fill(facts_.begin(), facts_.end(), kCellMeasured);
     vehicle_cell_ = idx(cell_of(p_.sensor_x, p_.sensor_y));
     surface_[vehicle_cell_] = level1_at(p_.sensor_x, p_.sensor_y);
     return;
@@ -568,8 +567,7 @@ void TerrainCells::fit(const Candidates& cand, const std::vector<std::int32_t>& 
     state_[idx(cell)] = keep     ? CellState::level1
                         : fitted ? CellState::refined
                                  : CellState::inherited;
-    facts_[idx(cell)] = static_cast<std::uint8_t>((keep ? 0 : kCellReplaced) |
-                                                  (keep || fitted ? kCellMeasured : 0));
+    replace_[idx(cell)] = keep ? 0 : 1;
     replaced_ += keep ? 0 : 1;
   };
   // Breadth first from the cell under the sensor through the cells whose fit succeeded,
@@ -629,7 +627,7 @@ void TerrainCells::fit(const Candidates& cand, const std::vector<std::int32_t>& 
     for (const auto& nb : next) {
       if (nb[0] < 0 || nb[1] < 0 || nb[0] >= side_ || nb[1] >= side_) continue;
       const Index n = idx(nb[1] * side_ + nb[0]);
-      if (state_[n] != CellState::refined && state_[n] != CellState::level1) continue;
+      if (!has_own_ground(state_[n])) continue;
       mean.c += surface_[n].c;
       mean.gx += surface_[n].gx;
       mean.gy += surface_[n].gy;
@@ -666,13 +664,13 @@ void TerrainCells::relabel(const Cloud& cloud, const PointFacts& facts, const La
   // Plain pointers in locals: the byte stores of labels would otherwise have them reloaded
   // for every return, most of which lie in cells that keep their level-1 labels.
   const std::int32_t *const bin_of = facts.bin, *const cell_of = cell_of_bin_.data();
-  const std::uint8_t* const cell_facts = facts_.data();
+  const std::uint8_t* const replace = replace_.data();
   const Index returns = cloud.size();
   for (Index i = 0; i < returns; ++i) {
     const std::int32_t bin = bin_of[i];
     if (bin < 0) continue;
     const int cell = cell_of[bin];
-    if ((cell_facts[cell] & kCellReplaced) == 0) continue;
+    if (replace[cell] == 0) continue;
     float h = 0;
     bool is_ground = ground_by(cell, i, h);
     height[i] = h;

@@ -62,20 +62,21 @@ struct CellParams {
 
 enum class CellState : std::uint8_t { unvisited, level1, refined, inherited };
 
-/// Facts of a level-2 cell (bits).
-inline constexpr std::uint8_t kCellReplaced = 1;  // its surface replaces the level-1 plane in labels
-inline constexpr std::uint8_t kCellMeasured = 2;  // its surface was fitted to ground of its own
-                                                  // (level1, refined; not inherited)
+/// Whether a cell in `state` has a surface fitted to ground of its own (a level-1 plane that
+/// explains it, or a refined fit), not one inherited from a neighbour.
+[[nodiscard]] inline bool has_own_ground(CellState state) {
+  return state == CellState::level1 || state == CellState::refined;
+}
 
 /// Where the level-2 surface has ground of its own, by cloud point; looked up only for the
 /// few returns that need it, so nothing is computed per return. Default: nowhere.
 struct Level2Coverage {
   const std::int32_t* point_bin = nullptr;    // fitting bin per cloud point (-1: none)
   const std::int32_t* cell_of_bin = nullptr;  // cell per fitting bin
-  const std::uint8_t* cell_facts = nullptr;   // kCellReplaced | kCellMeasured per cell
+  const CellState* cell_state = nullptr;      // state per cell
   [[nodiscard]] bool measured(std::size_t point) const {
-    if (point_bin == nullptr || point_bin[point] < 0) return false;
-    return (cell_facts[cell_of_bin[point_bin[point]]] & kCellMeasured) != 0;
+    return point_bin != nullptr && point_bin[point] >= 0 &&
+           has_own_ground(cell_state[cell_of_bin[point_bin[point]]]);
   }
 };
 
@@ -109,13 +110,12 @@ class TerrainCells {
   /// True when fitting bin `bin` (row * bins + col) lies in a cell whose surface replaces
   /// the level-1 plane.
   [[nodiscard]] bool replaced_bin(int bin) const {
-    return (facts_[static_cast<std::size_t>(cell_of_bin_[static_cast<std::size_t>(bin)])] &
-            kCellReplaced) != 0;
+    return replace_[static_cast<std::size_t>(cell_of_bin_[static_cast<std::size_t>(bin)])] != 0;
   }
   /// The coverage of the current fit for returns binned as `point_bin` (valid until the
   /// next fit).
   [[nodiscard]] Level2Coverage coverage(const std::int32_t* point_bin) const {
-    return {point_bin, cell_of_bin_.data(), facts_.data()};
+    return {point_bin, cell_of_bin_.data(), state_.data()};
   }
   /// The surface of the cell under the sensor (valid once a fit replaced a cell).
   [[nodiscard]] const HeightPlane& vehicle_surface() const { return surface_[vehicle_cell_]; }
@@ -148,7 +148,7 @@ class TerrainCells {
   std::size_t vehicle_cell_ = 0;
   std::vector<HeightPlane> surface_;
   std::vector<CellState> state_;
-  std::vector<std::uint8_t> facts_;  // per cell: kCellReplaced | kCellMeasured
+  std::vector<std::uint8_t> replace_;
   // The cell of every bin (row-major), made when the grid changes: no division per return.
   std::vector<std::int32_t> cell_of_bin_;
   std::vector<std::int32_t> cell_candidates_;  // per cell: its scoring candidates

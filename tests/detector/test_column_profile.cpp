@@ -88,8 +88,8 @@ Labels label(const Scan& s, std::vector<float> level2 = {}, std::vector<float> p
   // Every return in fitting bin 0, whose cell 0 is measured, or no bin at all.
   const std::vector<std::int32_t> point_bin(s.cloud.size(), measured ? 0 : -1);
   const std::int32_t cell_of_bin[] = {0};
-  const std::uint8_t cell_facts[] = {kCellMeasured};
-  const Level2Coverage coverage{point_bin.data(), cell_of_bin, cell_facts};
+  const CellState cell_state[] = {CellState::refined};
+  const Level2Coverage coverage{point_bin.data(), cell_of_bin, cell_state};
   profiles.label(s.cloud, steep.data(), coverage, plane, p, out.ground, out.height);
   return out;
 }
