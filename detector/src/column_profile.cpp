@@ -731,6 +731,9 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // and over this return's ray there (a tree crown on a bank's top, met from below:
       // ground cannot lie over a ray that passed on under it).
       if (rising && k + 1 < end && under_overhang(q, points_[k + 1])) accept = false;
+      // ... nor the column's last return far past a climb over the sensor: what stands on
+      // a top the rings cannot see (past_hidden_top).
+      if (rising && k + 1 == end && past_hidden_top(r, last_r, last_z)) accept = false;
     } else {
       const float rise = blocked           ? p_.blocked_rise_m + p_.blocked_rise_per_m * advance
                          : profile_size_ == 1 ? p_.start_rise_m + p_.start_rise_per_m * advance
@@ -792,6 +795,19 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     faces_only = true;
     last_ring = q.ring;
   }
+}
+
+// Whether a return at distance r, the column's last, lies past the top of a climb over the
+// sensor that the walk followed to (last_r, last_z), over more than one ground return (not
+// a lone return resumed past an obstacle: the street over a ramp's wall), and more than
+// hidden_top_range_ratio times as far. Ground over the sensor is met only by rising rays, where
+// it rises more steeply than the ray; a top that levels off hides from every ray past its
+// edge, so the next ring's return that far out, with nothing over it, is what stands on
+// that top (a shed on a bank's top, bank_s1 and bank_s101): the climb's surface rising on
+// shows in the rings over it (hills_s4) or closer behind the edge.
+bool ColumnProfiles::past_hidden_top(float r, float last_r, float last_z) const {
+  return p_.sensor_z > 0.f && profile_size_ > 2 && last_z > p_.sensor_z &&
+         r > p_.hidden_top_range_ratio * last_r;
 }
 
 // A ground return of its column that may vouch for its neighbours (rule 4): not on a steep

@@ -56,6 +56,9 @@ struct ProfileParams {
   // than this nearer and over the return's ray there (a tree crown on a bank's top met
   // from below).
   float overhang_m = 1.f;
+  // ... and is not the column's last return more than this times as far as the ground
+  // return before it, where that ground lay over the sensor after a climb (past_hidden_top).
+  float hidden_top_range_ratio = 1.6f;
   float min_advance_m = 0.3f;  // nearer than this (horizontally) to the last ground return
   float anchor_slack_m = 0.05f;  // ... a ground return moves the profile's end at most
                                  // max_gradient x advance + this up or down
@@ -168,6 +171,7 @@ class ColumnProfiles {
   [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
   [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end, bool past_faces_only) const;
   [[nodiscard]] bool under_overhang(const ColumnPoint& q, const ColumnPoint& above) const;
+  [[nodiscard]] bool past_hidden_top(float r, float last_r, float last_z) const;
   [[nodiscard]] bool is_ground_neighbour(std::size_t k) const;
   [[nodiscard]] bool raised_over_level2(std::size_t k, float by) const;
   [[nodiscard]] bool rise_refuted(const Cloud& cloud, std::size_t c, std::size_t a,

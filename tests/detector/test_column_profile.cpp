@@ -829,6 +829,47 @@ TEST_CASE("column profiles: a shoulder under an overhang is the underside of an 
   CHECK(ring4(kCrownNearerLower) == 0);
 }
 
+TEST_CASE("column profiles: the last return far past a climb over the sensor stands on its top",
+          "[detector][profiles]") {
+  // Sim bank_s1 / bank_s101: the rings climb a bank face at 0.35 to over the sensor (1.8 m);
+  // the bank's top levels off, hidden from every rising ray past its edge, and the next ring
+  // meets a shed on it, nearly twice as far as the last face return, with nothing over it.
+  // The profile extrapolated up the face runs far over that return, which still rises from
+  // the face (a hill's shoulder, rule 1, would take it).
+  enum Next { kNothing, kHigherRing };
+  // Returns the label of the return at (r, z) after `face_rings` returns on the face.
+  const auto after_face = [](int face_rings, float r, float z, Next next) {
+    Scan s;
+    const float face_r[] = {10.f, 11.5f, 13.f, 14.5f, 16.f};
+    for (int ring = 0; ring < face_rings; ++ring) {
+      add(s, ring, 0, face_r[ring], 0.35f * (face_r[ring] - 8.f), 1);
+    }
+    add(s, face_rings, 0, r, z, 2);
+    if (next == kHigherRing) add(s, face_rings + 1, 0, r + 15.f, z + 3.f, 1);  // rising on
+    return label(s, std::vector<float>(s.cloud.size(), 0.f)).ground[static_cast<std::size_t>(face_rings)];
+  };
+  // The face's last return at 16 m, 2.8 m up: over the sensor.
+  CHECK(after_face(5, 30.f, 5.f, kNothing) == 0);
+  // A higher ring of the column met something farther: the climb's surface may rise on.
+  CHECK(after_face(5, 30.f, 5.f, kHigherRing) == 1);
+  // Within 1.6 times the face's last return's distance: the face may be bending over.
+  CHECK(after_face(5, 23.f, 4.f, kNothing) == 1);
+  // The face's last return at 13 m, 1.75 m up: under the sensor, where a top is seen by
+  // falling rays.
+  CHECK(after_face(3, 25.f, 3.5f, kNothing) == 1);
+
+  // Sim garage_s2: from inside a ramp, rings 0-2 meet its wall 5 m out, ring 3 the street
+  // over it at 3.4 m and ring 4 ground far beyond, nothing over it: the climb is one return
+  // resumed past an obstacle, no face that levelled off.
+  Scan s;
+  for (int ring = 0; ring < 3; ++ring) add(s, ring, 0, 5.f, 0.6f + 0.5f * static_cast<float>(ring), 2);
+  add(s, 3, 0, 26.4f, 3.4f, 1);
+  add(s, 4, 0, 76.f, 8.7f, 1);
+  const Labels street = label(s, std::vector<float>(s.cloud.size(), 0.f));
+  CHECK(street.ground[3] == 1);
+  CHECK(street.ground[4] == 1);
+}
+
 TEST_CASE("column profiles: a rising ray passing on beside a face the next column met is an object",
           "[detector][profiles]") {
   // Sim bank_s101 (frame 4): rings 0-3 climb a bank face at 0.35; in columns 30-59 ring 4,
