@@ -846,7 +846,8 @@ TEST_CASE("column profiles: the last return far past a climb over the sensor sta
     }
     add(s, face_rings, 0, r, z, 2);
     if (next == kHigherRing) add(s, face_rings + 1, 0, r + 15.f, z + 3.f, 1);  // rising on
-    return label(s, std::vector<float>(s.cloud.size(), 0.f)).ground[static_cast<std::size_t>(face_rings)];
+    const Labels out = label(s, std::vector<float>(s.cloud.size(), 0.f));
+    return out.ground[static_cast<std::size_t>(face_rings)];
   };
   // The face's last return at 16 m, 2.8 m up: over the sensor.
   CHECK(after_face(5, 30.f, 5.f, kNothing) == 0);
@@ -862,7 +863,9 @@ TEST_CASE("column profiles: the last return far past a climb over the sensor sta
   // over it at 3.4 m and ring 4 ground far beyond, nothing over it: the climb is one return
   // resumed past an obstacle, no face that levelled off.
   Scan s;
-  for (int ring = 0; ring < 3; ++ring) add(s, ring, 0, 5.f, 0.6f + 0.5f * static_cast<float>(ring), 2);
+  for (int ring = 0; ring < 3; ++ring) {
+    add(s, ring, 0, 5.f, 0.6f + 0.5f * static_cast<float>(ring), 2);
+  }
   add(s, 3, 0, 26.4f, 3.4f, 1);
   add(s, 4, 0, 76.f, 8.7f, 1);
   const Labels street = label(s, std::vector<float>(s.cloud.size(), 0.f));
