@@ -3,6 +3,7 @@
 // wall, and a crate seen by the top ring against the sky (a silhouette).
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "column_profile.hpp"
@@ -74,8 +75,19 @@ struct Labels {
 // Labels a scan with the mounting height known; `level2` and `plane` default to a level-2
 // surface at z = 0 and no trusted level-1 plane; with `measured` the level-2 surface has
 // ground of its own under every return.
+Labels label_by_cell(const Scan& s, std::vector<float> level2, std::vector<float> plane,
+                     const std::vector<bool>& measured);
+
 Labels label(const Scan& s, std::vector<float> level2 = {}, std::vector<float> plane = {},
              bool measured = false) {
+  return label_by_cell(s, std::move(level2), std::move(plane),
+                       std::vector<bool>(s.cloud.size(), measured));
+}
+
+// As label, with the level-2 surface having ground of its own under return i where
+// measured[i].
+Labels label_by_cell(const Scan& s, std::vector<float> level2, std::vector<float> plane,
+                     const std::vector<bool>& measured) {
   if (level2.empty()) level2.assign(s.cloud.size(), 0.f);
   if (plane.empty()) plane.assign(s.cloud.size(), std::nanf(""));
   std::vector<std::uint8_t> steep;
@@ -85,8 +97,9 @@ Labels label(const Scan& s, std::vector<float> level2 = {}, std::vector<float> p
   ColumnProfiles profiles;
   Labels out;
   out.height = level2;  // heights over the level-2 surface on entry
-  // Every return in fitting bin 0, whose cell 0 is measured, or no bin at all.
-  const std::vector<std::int32_t> point_bin(s.cloud.size(), measured ? 0 : -1);
+  // A measured return in fitting bin 0, whose cell 0 is measured; the others in no bin.
+  std::vector<std::int32_t> point_bin(s.cloud.size());
+  for (std::size_t i = 0; i < point_bin.size(); ++i) point_bin[i] = measured[i] ? 0 : -1;
   const std::int32_t cell_of_bin[] = {0};
   const CellState cell_state[] = {CellState::refined};
   const Level2Coverage coverage{point_bin.data(), cell_of_bin, cell_state};
@@ -738,6 +751,34 @@ TEST_CASE("column profiles: raised returns ending a column past an obstacle are 
   // Level with the ground under the vehicle where the cells lie 1 m lower (a ramp's
   // street level going on past a car): kept.
   CHECK(top_kept(0.05f, 0.1f, true, -1.f) == std::vector<int>{1, 1});
+}
+
+TEST_CASE("column profiles: an object's top needs ground of its own only under its high return",
+          "[detector][profiles]") {
+  // The fences_s101 column of the test above, with the level-2 surface at z = 0 having
+  // ground of its own under ring 5's fence top (`measured5`) or ring 6's (`measured6`),
+  // not under the other (past the fitting area, or inherited): fences_s3_hires, a barrier's
+  // top met by ring 0 and fence tops farther out in cells without ground of their own.
+  const auto top_kept = [](float z5, float z6, bool measured5, bool measured6) {
+    Scan s;
+    add(s, 0, 0, 7.4f, 0.f, 1);
+    for (int ring = 1; ring <= 4; ++ring) {
+      add(s, ring, 0, 8.1f, 0.1f + 0.29f * static_cast<float>(ring - 1), 2);
+    }
+    add(s, 5, 0, 17.9f, z5, 2);
+    add(s, 6, 0, 25.f, z6, 2);
+    std::vector<bool> measured(s.cloud.size(), true);
+    measured[5] = measured5;
+    measured[6] = measured6;
+    const Labels out = label_by_cell(s, s.cloud.z, {}, measured);
+    REQUIRE(out.ground[0] == 1);
+    return std::vector<int>{out.ground[5], out.ground[6]};
+  };
+  // One return more than single_rise_m over ground of the cells' own: the group is dropped.
+  CHECK(top_kept(0.41f, 0.66f, true, false) == std::vector<int>{0, 0});
+  CHECK(top_kept(0.41f, 0.66f, false, true) == std::vector<int>{0, 0});
+  // The only return that high lies over a cell without ground of its own: kept.
+  CHECK(top_kept(0.25f, 0.66f, true, false) == std::vector<int>{1, 1});
 }
 
 TEST_CASE("column profiles: a column's first two returns on a top, nothing after, are an object",
