@@ -116,6 +116,19 @@ Scan car_then(float r, float z, int truth) {
   return s;
 }
 
+// Sim fences_s101: ring 0 on the road 7.4 m out, rings 1-4 on a 1 m wall 8.1 m out;
+// rings 5 and 6 pass over it to the tops of fences 18 and 25 m out (z5, z6 over the road).
+Scan wall_then_fence_tops(float z5, float z6) {
+  Scan s;
+  add(s, 0, 0, 7.4f, 0.f, 1);
+  for (int ring = 1; ring <= 4; ++ring) {
+    add(s, ring, 0, 8.1f, 0.1f + 0.29f * static_cast<float>(ring - 1), 2);
+  }
+  add(s, 5, 0, 17.9f, z5, 2);
+  add(s, 6, 0, 25.f, z6, 2);
+  return s;
+}
+
 }  // namespace
 
 TEST_CASE("column profiles follow a bank, a levee's fields and stop at walls and boxes",
@@ -729,13 +742,7 @@ TEST_CASE("column profiles: raised returns ending a column past an obstacle are 
   // road), taken as a gentle rise past the wall and vouching for each other (rule 4);
   // the higher rings go to the sky. The level-2 surface lies at `level2_z`.
   const auto top_kept = [](float z5, float z6, bool measured, float level2_z = 0.f) {
-    Scan s;
-    add(s, 0, 0, 7.4f, 0.f, 1);
-    for (int ring = 1; ring <= 4; ++ring) {
-      add(s, ring, 0, 8.1f, 0.1f + 0.29f * static_cast<float>(ring - 1), 2);
-    }
-    add(s, 5, 0, 17.9f, z5, 2);
-    add(s, 6, 0, 25.f, z6, 2);
+    const Scan s = wall_then_fence_tops(z5, z6);
     std::vector<float> level2(s.cloud.size());
     for (std::size_t i = 0; i < level2.size(); ++i) level2[i] = s.cloud.z[i] - level2_z;
     const Labels out = label(s, level2, {}, measured);
@@ -760,13 +767,7 @@ TEST_CASE("column profiles: an object's top needs ground of its own only under i
   // not under the other (past the fitting area, or inherited): fences_s3_hires, a barrier's
   // top met by ring 0 and fence tops farther out in cells without ground of their own.
   const auto top_kept = [](float z5, float z6, bool measured5, bool measured6) {
-    Scan s;
-    add(s, 0, 0, 7.4f, 0.f, 1);
-    for (int ring = 1; ring <= 4; ++ring) {
-      add(s, ring, 0, 8.1f, 0.1f + 0.29f * static_cast<float>(ring - 1), 2);
-    }
-    add(s, 5, 0, 17.9f, z5, 2);
-    add(s, 6, 0, 25.f, z6, 2);
+    const Scan s = wall_then_fence_tops(z5, z6);
     std::vector<bool> measured(s.cloud.size(), true);
     measured[5] = measured5;
     measured[6] = measured6;
