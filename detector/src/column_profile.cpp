@@ -952,10 +952,9 @@ bool ColumnProfiles::top_at_column_end(Index first, Index last, bool column_firs
     const ColumnPoint& q = points_[g];
     before_resumed = before_resumed && q.resumed == 0;
     if (!resumed && before_resumed && ++first_returns > 2) return false;
-    if (q.z - start_z_ <= over_start || q.z >= p_.sensor_z) {
-      return false;
-    }
-    high = high || (level2_.measured(q.index) && raised_over_level2(g, p_.single_rise_m));
+    if (q.z - start_z_ <= over_start || q.z >= p_.sensor_z) return false;
+    // The cells' state is looked up only for a return that high.
+    high = high || (raised_over_level2(g, p_.single_rise_m) && level2_.measured(q.index));
   }
   return high;
 }
