@@ -615,6 +615,28 @@ bool ColumnProfiles::under_overhang(const ColumnPoint& q, const ColumnPoint& abo
   return above.z > ray_z;
 }
 
+// Whether a later return of the column than k (a higher ring) lies more than overhang_m
+// nearer, over k's ray there and level with k (within single_rise_m): k met the far edge of
+// a roof or a canopy that the rings over it met from below (a carport on a bank's top).
+bool ColumnProfiles::under_level_overhang(Index k, Index end) const {
+  const ColumnPoint& q = points_[k];
+  for (Index j = k + 1; j < end; ++j) {
+    const ColumnPoint& above = points_[j];
+    if (std::abs(above.z - q.z) < p_.single_rise_m && under_overhang(q, above)) return true;
+  }
+  return false;
+}
+
+// Whether the kink before return k (a return more than drop_m under the profile that kink
+// extrapolated) was an object rather than a bend of the terrain: k stands more than
+// single_rise_m over a level-2 surface with ground of its own there, so it is on no lower
+// surface either, and the kink had ground of the column before it to go back to (not only
+// the start's guess: the street over a ramp's parapet, garage_s2).
+bool ColumnProfiles::kink_was_an_object(Index k, Index profile_size_before) const {
+  return profile_size_before > 1 && raised_over_level2(k, p_.single_rise_m) &&
+         level2_.measured(points_[k].index);
+}
+
 // One column outwards from the sensor. The profile is the last ground return (r, z) and
 // the gradient dz/dr along the column, starting at the ground under the sensor. Heights over
 // the profile go to `height` (by cloud point).
@@ -662,6 +684,15 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
   profile_size_ = 0;
   add_to_profile(last_r, last_z);
   Index first_ground = end;  // the column's first ground return
+  // The walk's state before the last ground return, kept while that return is a kink
+  // (kink_was_an_object may take it back).
+  struct BeforeKink {
+    float last_r, last_z, gradient, gradient_r;
+    int last_ring;
+    Index profile_size, first_ground, kink;
+  };
+  BeforeKink before_kink{};
+  bool last_kinked = false;
   for (Index k = begin; k < end; ++k) {
     ColumnPoint& q = points_[k];
     const float r = q.r, z = q.z;
@@ -713,6 +744,24 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       }
       continue;
     }
+    if (last_kinked && over < -p_.drop_m && kink_was_an_object(k, before_kink.profile_size)) {
+      // The kink was an object: back to the ground before it, past that obstacle, and this
+      // return walked again from there.
+      points_[before_kink.kink].ground = 0;
+      last_r = before_kink.last_r;
+      last_z = before_kink.last_z;
+      gradient = before_kink.gradient;
+      gradient_r = before_kink.gradient_r;
+      last_ring = before_kink.last_ring;
+      profile_size_ = before_kink.profile_size;
+      first_ground = before_kink.first_ground;
+      blocked = true;
+      obstacle_seen = true;
+      faces_only = false;
+      last_kinked = false;
+      --k;  // (unsigned wrap-around at begin == 0 is undone by the loop's ++k)
+      continue;
+    }
     const float step = (z - last_z) / advance;  // gradient from the last ground return
     bool accept = false;
     float next_gradient = 0.f;
@@ -731,6 +780,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // and over this return's ray there (a tree crown on a bank's top, met from below:
       // ground cannot lie over a ray that passed on under it).
       if (rising && k + 1 < end && under_overhang(q, points_[k + 1])) accept = false;
+      if (rising && accept && under_level_overhang(k, end)) accept = false;
       // ... nor the column's last return far past a climb over the sensor: what stands on
       // a top the rings cannot see (past_hidden_top).
       if (rising && k + 1 == end && past_hidden_top(r, last_r, last_z)) accept = false;
@@ -772,6 +822,10 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     q.rises_on = blocked && profile_size_ <= 2 && !(std::abs(q.level2_h) <= p_.single_rise_m) &&
                  rises_over_its_ray(k, end, faces_only);
     q.kinked = step - gradient > p_.kink_gradient;
+    last_kinked = q.kinked != 0;
+    if (last_kinked) {
+      before_kink = {last_r, last_z, gradient, gradient_r, last_ring, profile_size_, first_ground, k};
+    }
     q.resumed = blocked;
     // Ground level with the ground under the vehicle, no obstacle before it in the column:
     // that ground going on (rule 4 keeps it, whatever the level-2 surface says, when no

@@ -55,6 +55,9 @@ struct ProfileParams {
   // ... and is not under an overhang: the column's next (higher) ring met something more
   // than this nearer and over the return's ray there (a tree crown on a bank's top met
   // from below).
+  // (or a later ring met something that much nearer, over the ray and level with the
+  // return, within single_rise_m: a roof or a canopy whose far edge the return met, seen
+  // from below by the rings over it: under_level_overhang).
   float overhang_m = 1.f;
   // ... and is not the column's last return more than this times as far as the ground
   // return before it, where that ground lay over the sensor after a climb (past_hidden_top).
@@ -79,6 +82,11 @@ struct ProfileParams {
   // ... and a raised ground return after it vouches for it only within kink_vouch_span x
   // its distance (the rise going on), not far beyond.
   float kink_vouch_span = 0.25f;
+  // The walk takes a kink back (kink_was_an_object) when the next return that advances lies
+  // more than drop_m under the profile the kink extrapolated, yet more than single_rise_m
+  // over a level-2 surface fitted to ground of its own there: it is on no lower surface,
+  // so the kink was a low object in front (a fence line 0.3 m up, a bush), not a bend of the
+  // terrain. The kink becomes an obstacle and the walk goes on from the ground before it.
   // Consecutive raised ground returns of a column along at most this, each more than drop_m
   // over the ground before and after them, are an object the walk climbed (a car roof, a
   // fence top seen by two rings), however they vouch for each other.
@@ -171,7 +179,9 @@ class ColumnProfiles {
   [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
   [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end, bool past_faces_only) const;
   [[nodiscard]] bool under_overhang(const ColumnPoint& q, const ColumnPoint& above) const;
+  [[nodiscard]] bool under_level_overhang(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool past_hidden_top(float r, float last_r, float last_z) const;
+  [[nodiscard]] bool kink_was_an_object(std::size_t k, std::size_t profile_size_before) const;
   [[nodiscard]] bool is_ground_neighbour(std::size_t k) const;
   [[nodiscard]] bool raised_over_level2(std::size_t k, float by) const;
   [[nodiscard]] bool rise_refuted(const Cloud& cloud, std::size_t c, std::size_t a,
