@@ -1103,3 +1103,70 @@ TEST_CASE("column profiles: over the sensor a run goes on across two dropped col
   CHECK(crown_ground(2.6f) == 0);
   CHECK(crown_ground(1.7f) == 8);
 }
+
+TEST_CASE("column profiles: a kink the next return falls under, onto no lower surface, was an object",
+          "[detector][profiles]") {
+  // Sim fences_s102: rings 0-2 on the road, ring 3 on a fence line 0.34 m up 2.3 m past
+  // ring 2 (it bends the profile up: a kink), ring 4 on a second fence 24.4 m out, far under
+  // the profile the kink extrapolated (a lower surface, rule 1), ring 5 on a third. The
+  // level-2 surface, at z = 0 with ground of its own, lies 0.6 m under ring 4: no lower
+  // surface there, so the kink was the fence, and the walk goes on past it from the road.
+  // `ring4_level2`: ring 4's height over the level-2 surface; `measured4`: whether that
+  // surface has ground of its own under ring 4.
+  const auto labels = [](float ring4_level2, bool measured4) {
+    Scan s;
+    add(s, 0, 0, 9.5f, 0.f, 1);
+    add(s, 1, 0, 11.7f, 0.f, 1);
+    add(s, 2, 0, 15.2f, 0.f, 1);
+    add(s, 3, 0, 17.5f, 0.34f, 2);
+    add(s, 4, 0, 24.4f, 0.61f, 2);
+    add(s, 5, 0, 34.7f, 1.30f, 2);
+    std::vector<float> level2 = s.cloud.z;
+    level2[3] = 0.f;  // the cells climbed onto the first fence line
+    level2[4] = ring4_level2;
+    level2[5] = ring4_level2 + 0.69f;
+    std::vector<bool> measured(s.cloud.size(), true);
+    measured[4] = measured4;
+    const Labels out = label_by_cell(s, level2, {}, measured);
+    return std::vector<int>(out.ground.begin(), out.ground.end());
+  };
+  CHECK(labels(0.61f, true) == std::vector<int>{1, 1, 1, 0, 0, 0});
+  // The level-2 surface follows ring 4 (a field below a bank's edge), or has no ground of
+  // its own there: ring 4 may be the lower surface, and the kink stays ground.
+  CHECK(labels(0.1f, true)[3] == 1);
+  CHECK(labels(0.61f, false)[3] == 1);
+
+  // Sim garage_s2: the kink is the column's first ground (the street over a ramp's wall,
+  // 1.2 m up 9.5 m out), with only the start's guess before it to go back to: it stays.
+  Scan s;
+  add(s, 0, 0, 9.5f, 1.2f, 1);
+  add(s, 1, 0, 20.f, 1.3f, 1);
+  std::vector<float> level2 = {0.f, 1.3f};  // the cells follow the kink, not ring 1
+  CHECK(label(s, level2, {}, true).ground[0] == 1);
+}
+
+TEST_CASE("column profiles: a shoulder level with a roof the rings over it met from below is none",
+          "[detector][profiles]") {
+  // Sim bank_s302: rings 0-11 climb a bank face at about 0.4; ring 12 meets, 14 m past
+  // ring 11, the far edge of a roof 2.4 m over the bank's top: under the profile
+  // extrapolated up the face and still rising from ring 11 (a hill's shoulder, rule 1).
+  // Ring 13 passes on over the roof, farther; rings 14 and 15 meet its underside nearer,
+  // over ring 12's ray and level with ring 12: ring 12 is that roof, not the top's ground.
+  const auto ring12 = [](float roof_z, bool roof_seen) {
+    Scan s;
+    const float r[] = {7.4f, 7.8f, 8.3f, 8.9f, 9.4f, 10.1f, 10.9f, 11.8f, 12.9f, 14.1f, 15.6f, 17.6f};
+    const float z[] = {-0.1f, 0.08f, 0.27f, 0.48f, 0.72f, 0.99f, 1.31f, 1.67f, 2.1f, 2.61f, 3.24f, 4.03f};
+    for (int ring = 0; ring < 12; ++ring) add(s, ring, 0, r[ring], z[ring], 1);
+    add(s, 12, 0, 31.6f, 6.87f, 2);
+    add(s, 13, 0, 38.4f, 9.33f, 2);
+    if (roof_seen) {
+      add(s, 14, 0, 21.7f, roof_z, 2);
+      add(s, 15, 0, 18.9f, roof_z + 0.06f, 2);
+    }
+    return label(s, std::vector<float>(s.cloud.size(), 0.f)).ground[12];
+  };
+  CHECK(ring12(6.87f, false) == 1);  // nothing says the shoulder is not the top's ground
+  CHECK(ring12(6.87f, true) == 0);
+  // A canopy well over ring 12 (a tree crown 1.1 m higher): ground may lie under it.
+  CHECK(ring12(8.f, true) == 1);
+}
