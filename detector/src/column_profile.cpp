@@ -683,13 +683,13 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
   };
   profile_size_ = 0;
   add_to_profile(last_r, last_z);
-  Index first_ground = end;  // the column's first ground return
+  Index last_ground = end;  // the column's last ground return taken (end: none yet)
   // The walk's state before the last ground return, kept while that return is a kink
   // (kink_was_an_object may take it back).
   struct BeforeKink {
     float last_r, last_z, gradient, gradient_r;
     int last_ring;
-    Index profile_size, first_ground, kink;
+    Index profile_size, last_ground, kink;
   };
   BeforeKink before_kink{};
   bool last_kinked = false;
@@ -748,13 +748,17 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // The kink was an object: back to the ground before it, past that obstacle, and this
       // return walked again from there.
       points_[before_kink.kink].ground = 0;
+      if (before_kink.last_ground != end &&
+          points_[before_kink.last_ground].road_beyond == points_[before_kink.kink].index) {
+        points_[before_kink.last_ground].road_beyond = kNoPoint;
+      }
       last_r = before_kink.last_r;
       last_z = before_kink.last_z;
       gradient = before_kink.gradient;
       gradient_r = before_kink.gradient_r;
       last_ring = before_kink.last_ring;
       profile_size_ = before_kink.profile_size;
-      first_ground = before_kink.first_ground;
+      last_ground = before_kink.last_ground;
       blocked = true;
       obstacle_seen = true;
       faces_only = false;
@@ -824,7 +828,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     q.kinked = step - gradient > p_.kink_gradient;
     last_kinked = q.kinked != 0;
     if (last_kinked) {
-      before_kink = {last_r, last_z, gradient, gradient_r, last_ring, profile_size_, first_ground, k};
+      before_kink = {last_r, last_z, gradient, gradient_r, last_ring, profile_size_, last_ground, k};
     }
     q.resumed = blocked;
     // Ground level with the ground under the vehicle, no obstacle before it in the column:
@@ -832,14 +836,14 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     // ground is left before it: a bush in front taken by the walk, then as a silhouette).
     q.vehicle_ground = !obstacle_seen &&
                        std::abs(z - start_z_) <= 0.5f * p_.single_rise_m;
-    // The column's first ground return level with the start, and this one level with it
-    // (nothing between): the vehicle's road going on.
-    if (profile_size_ == 2 && !blocked && points_[first_ground].vehicle_ground != 0 &&
-        q.ring > points_[first_ground].ring &&
+    // A ground return level with the start, no obstacle before it, and this one level with
+    // it (a higher ring, nothing between): the vehicle's road going on, seen by two rings.
+    if (last_ground != end && !blocked && points_[last_ground].vehicle_ground != 0 &&
+        q.ring > points_[last_ground].ring &&
         std::abs(z - last_z) <= 0.5f * p_.single_rise_m) {
-      points_[first_ground].road_beyond = q.index;
+      points_[last_ground].road_beyond = q.index;
     }
-    if (profile_size_ == 1) first_ground = k;
+    last_ground = k;
     last_r = r;
     last_z = z;
     add_to_profile(r, z);

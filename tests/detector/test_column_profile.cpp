@@ -1170,3 +1170,25 @@ TEST_CASE("column profiles: a shoulder level with a roof the rings over it met f
   // A canopy well over ring 12 (a tree crown 1.1 m higher): ground may lie under it.
   CHECK(ring12(8.f, true) == 1);
 }
+
+TEST_CASE("column profiles: the vehicle's road seen by any two consecutive rings is ground",
+          "[detector][profiles]") {
+  // Sim embankment_s304 (frame 1): behind the vehicle rings 0, 1 and 3 run on along the
+  // road, ring 2 meets it only over a short stretch between the kerbs' ends (here: between
+  // drop-outs), a short run open at both ends (rule 5). Ring 3 goes on level behind ring 2
+  // in the same columns, nothing between: the road going on, as for a column's first two
+  // ground returns.
+  const auto kept = [](float ring3_z) {
+    Scan s;
+    for (int col = 0; col <= 84; ++col) add(s, 0, col, 6.9f, 0.f, 1);
+    for (int col = 0; col <= 84; ++col) add(s, 1, col, 7.95f, 0.f, 1);
+    for (int col = 30; col <= 50; ++col) add(s, 2, col, 9.4f, 0.f, 1);
+    for (int col = 0; col <= 84; ++col) add(s, 3, col, 11.6f, ring3_z, 1);
+    const auto ground = label(s).ground;
+    int n = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) n += s.cloud.ring[i] == 2 ? ground[i] : 0;
+    return n;
+  };
+  CHECK(kept(0.f) == 21);
+  CHECK(kept(-0.35f) == 0);  // ring 3 not level with it: nothing vouches for ring 2
+}
