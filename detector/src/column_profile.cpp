@@ -693,6 +693,25 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
   };
   BeforeKink before_kink{};
   bool last_kinked = false;
+  // The kink was an object: back to the ground before it, past that obstacle.
+  auto take_kink_back = [&] {
+    points_[before_kink.kink].ground = 0;
+    if (before_kink.last_ground != end &&
+        points_[before_kink.last_ground].road_beyond == points_[before_kink.kink].index) {
+      points_[before_kink.last_ground].road_beyond = kNoPoint;
+    }
+    last_r = before_kink.last_r;
+    last_z = before_kink.last_z;
+    gradient = before_kink.gradient;
+    gradient_r = before_kink.gradient_r;
+    last_ring = before_kink.last_ring;
+    profile_size_ = before_kink.profile_size;
+    last_ground = before_kink.last_ground;
+    blocked = true;
+    obstacle_seen = true;
+    faces_only = false;
+    last_kinked = false;
+  };
   for (Index k = begin; k < end; ++k) {
     ColumnPoint& q = points_[k];
     const float r = q.r, z = q.z;
@@ -745,25 +764,8 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       continue;
     }
     if (last_kinked && over < -p_.drop_m && kink_was_an_object(k, before_kink.profile_size)) {
-      // The kink was an object: back to the ground before it, past that obstacle, and this
-      // return walked again from there.
-      points_[before_kink.kink].ground = 0;
-      if (before_kink.last_ground != end &&
-          points_[before_kink.last_ground].road_beyond == points_[before_kink.kink].index) {
-        points_[before_kink.last_ground].road_beyond = kNoPoint;
-      }
-      last_r = before_kink.last_r;
-      last_z = before_kink.last_z;
-      gradient = before_kink.gradient;
-      gradient_r = before_kink.gradient_r;
-      last_ring = before_kink.last_ring;
-      profile_size_ = before_kink.profile_size;
-      last_ground = before_kink.last_ground;
-      blocked = true;
-      obstacle_seen = true;
-      faces_only = false;
-      last_kinked = false;
-      --k;  // (unsigned wrap-around at begin == 0 is undone by the loop's ++k)
+      take_kink_back();
+      --k;  // this return walked again (unsigned wrap-around at 0 is undone by the ++k)
       continue;
     }
     const float step = (z - last_z) / advance;  // gradient from the last ground return
