@@ -685,19 +685,20 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
   add_to_profile(last_r, last_z);
   Index last_ground = end;  // the column's last ground return taken (end: none yet)
   // The walk's state before the last ground return, kept while that return is a kink
-  // (kink_was_an_object may take it back).
+  // (kink_was_an_object may take it back); the kink itself is then last_ground.
   struct BeforeKink {
     float last_r, last_z, gradient, gradient_r;
     int last_ring;
-    Index profile_size, last_ground, kink;
+    Index profile_size, last_ground;
   };
   BeforeKink before_kink{};
   bool last_kinked = false;
   // The kink was an object: back to the ground before it, past that obstacle.
   auto take_kink_back = [&] {
-    points_[before_kink.kink].ground = 0;
+    ColumnPoint& kink = points_[last_ground];
+    kink.ground = 0;
     if (before_kink.last_ground != end &&
-        points_[before_kink.last_ground].road_beyond == points_[before_kink.kink].index) {
+        points_[before_kink.last_ground].road_beyond == kink.index) {
       points_[before_kink.last_ground].road_beyond = kNoPoint;
     }
     last_r = before_kink.last_r;
@@ -830,7 +831,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     q.kinked = step - gradient > p_.kink_gradient;
     last_kinked = q.kinked != 0;
     if (last_kinked) {
-      before_kink = {last_r, last_z, gradient, gradient_r, last_ring, profile_size_, last_ground, k};
+      before_kink = {last_r, last_z, gradient, gradient_r, last_ring, profile_size_, last_ground};
     }
     q.resumed = blocked;
     // Ground level with the ground under the vehicle, no obstacle before it in the column:

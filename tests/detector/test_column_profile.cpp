@@ -72,20 +72,9 @@ struct Labels {
   std::vector<float> height;
 };
 
-// Labels a scan with the mounting height known; `level2` and `plane` default to a level-2
-// surface at z = 0 and no trusted level-1 plane; with `measured` the level-2 surface has
-// ground of its own under every return.
-Labels label_by_cell(const Scan& s, std::vector<float> level2, std::vector<float> plane,
-                     const std::vector<bool>& measured);
-
-Labels label(const Scan& s, std::vector<float> level2 = {}, std::vector<float> plane = {},
-             bool measured = false) {
-  return label_by_cell(s, std::move(level2), std::move(plane),
-                       std::vector<bool>(s.cloud.size(), measured));
-}
-
-// As label, with the level-2 surface having ground of its own under return i where
-// measured[i].
+// Labels a scan with the mounting height known, the level-2 surface having ground of its own
+// under return i where measured[i]; `level2` and `plane` default to a level-2 surface at
+// z = 0 and no trusted level-1 plane.
 Labels label_by_cell(const Scan& s, std::vector<float> level2, std::vector<float> plane,
                      const std::vector<bool>& measured) {
   if (level2.empty()) level2.assign(s.cloud.size(), 0.f);
@@ -105,6 +94,14 @@ Labels label_by_cell(const Scan& s, std::vector<float> level2, std::vector<float
   const Level2Coverage coverage{point_bin.data(), cell_of_bin, cell_state};
   profiles.label(s.cloud, steep.data(), coverage, plane, p, out.ground, out.height);
   return out;
+}
+
+// As label_by_cell, with the level-2 surface having ground of its own under every return
+// when `measured`, under none otherwise.
+Labels label(const Scan& s, std::vector<float> level2 = {}, std::vector<float> plane = {},
+             bool measured = false) {
+  return label_by_cell(s, std::move(level2), std::move(plane),
+                       std::vector<bool>(s.cloud.size(), measured));
 }
 
 // Ground at 6 m, a car side at 8 m (rings 1-3), then ring 4 at (r, z).
