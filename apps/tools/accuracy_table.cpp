@@ -9,6 +9,7 @@
 // and method: the minimum over its captures. Without either, --captures ../shared/data/sim.
 // --revision names what was measured (e.g. `git describe --always --dirty`).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -37,6 +38,10 @@ constexpr Method kMethods[] = {
     {"tangent-paper", vlpground::GroundMethod::tangent, false, false},
     {"ransac", vlpground::GroundMethod::ransac, false, false},
     {"lpr", vlpground::GroundMethod::lpr, false, false}};
+
+// Issue 10's acceptance targets, checked on every capture of an evaluation set.
+constexpr double kTargetF1 = 0.98;
+constexpr double kTargetHighAsGround = 0.005;
 
 std::vector<fs::path> labelled_captures(const fs::path& dir) {
   std::vector<fs::path> out;
@@ -102,10 +107,17 @@ void print_preamble(const std::string& sources, int frames, const std::string& r
         "Evaluation sets (`--kinds`, made by `scripts/make_eval_set.sh`): every simulator scene "
         "kind, each seed at strongest and dual return (VLP-16, 10 Hz), Puck Hi-Res, 5 Hz, 20 Hz "
         "and a "
-        "mounting tilted by up to 4 degrees in pitch and roll, 4 rotations each; `tune` holds the "
-        "seeds 1-5 the detector was tuned on, `held_out` the seeds 101-105 never looked at while "
-        "tuning. Per kind and method: the worst capture (minimum F1, overall and per range band; "
-        "the largest share of high obstacles labelled ground).\n\n");
+        "mounting tilted by up to 4 degrees in pitch and roll, 4 rotations each. `tune` holds the "
+        "seeds 1-5 the detector was tuned on. `held_out` holds the seeds 101-105, held out when "
+        "the set was made; some of its captures were examined since to find a rule "
+        "(docs/detector.md names them), so it is no longer unseen. `unseen` holds the seeds "
+        "601-605, only ever measured: none of its captures has been examined to change the "
+        "detector (when one is, it joins the examined and a new unseen set is drawn). Per kind "
+        "and method: the worst capture (minimum F1, overall and per range band; the largest "
+        "share of high obstacles labelled ground). Under each table, the default method "
+        "against issue 10's targets on every capture: F1 >= %.2f within 40 m, high obstacles "
+        "as ground <= %.1f %%.\n\n",
+        kTargetF1, 100 * kTargetHighAsGround);
   std::printf(
       "Methods: `tangent` is the default: the paper's detector (tangent-verified RANSAC over "
       "a searched cross partition) with terrain refinement and column profiles "
@@ -196,10 +208,45 @@ struct KindSummary {
   }
 };
 
+// The captures on which one method misses a target, worst first.
+struct TargetMisses {
+  std::vector<std::pair<double, std::string>> low_f1, high_as_ground;
+  void add(const CaptureScore& s) {
+    const double f1 = s.score.all.f1(), high = s.score.high_obstacle_as_ground_rate();
+    if (f1 < kTargetF1) low_f1.emplace_back(f1, s.capture);
+    if (high > kTargetHighAsGround) high_as_ground.emplace_back(-high, s.capture);
+  }
+};
+
+// "F1 under 0.98 on N of M captures: a 0.970, b 0.975" (worst first), or "on none of M".
+void print_misses(const char* what, std::vector<std::pair<double, std::string>> misses,
+                  std::size_t captures, double scale, const char* unit) {
+  std::sort(misses.begin(), misses.end());
+  if (misses.empty()) {
+    std::printf("%s on none of the %zu captures", what, captures);
+    return;
+  }
+  std::printf("%s on %zu of the %zu captures:", what, misses.size(), captures);
+  for (std::size_t i = 0; i < misses.size(); ++i)
+    std::printf("%s %s %.*f%s", i == 0 ? "" : ",", misses[i].second.c_str(), scale > 1 ? 2 : 4,
+                std::abs(misses[i].first) * scale, unit);
+}
+
+void print_target_misses(const char* method, std::size_t captures, const TargetMisses& m) {
+  std::printf("Targets, method `%s`: ", method);
+  print_misses("F1 under 0.98", m.low_f1, captures, 1, "");
+  std::printf("; ");
+  print_misses("high obstacles as ground over 0.5 %", m.high_as_ground, captures, 100, " %");
+  std::printf(".\n\n");
+}
+
 void per_kind(const std::string& name, const fs::path& dir, int frames) {
   std::map<std::pair<std::string, int>, KindSummary> table;  // (kind, method index)
   vlpground::eval::Score all;                                // for the terrain note
-  for (const auto& pcap : labelled_captures(dir)) {
+  TargetMisses misses;                                       // the default method's
+  const auto pcaps = labelled_captures(dir);
+  const std::size_t captures = pcaps.size();
+  for (const auto& pcap : pcaps) {
     const std::string stem = pcap.stem().string();
     const std::string kind = stem.substr(0, stem.find('_'));
     const auto scores = score(pcap, frames);
@@ -207,6 +254,7 @@ void per_kind(const std::string& name, const fs::path& dir, int frames) {
       table[{kind, static_cast<int>(k)}].add(scores[k]);
       all += scores[k].score;
     }
+    misses.add(scores.front());
   }
   std::printf(
       "## Evaluation set `%s`: worst capture per scene kind and method\n\n"
@@ -220,6 +268,7 @@ void per_kind(const std::string& name, const fs::path& dir, int frames) {
                 s.worst.c_str());
   }
   std::printf("\n");
+  print_target_misses(kMethods[0].name, captures, misses);
   print_terrain_note(all.terrain_source());
   std::fflush(stdout);
 }
