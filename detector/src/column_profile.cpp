@@ -587,10 +587,12 @@ bool ColumnProfiles::bends_on(Index k, Index end, float step, float bend) const 
 // only faces stood between k and the column's last ground return (`past_faces_only`): the
 // street seen over a ramp's retaining wall from inside the ramp, the wall hiding every
 // lower ring (garage at 5 Hz); not a facade seen past a car and refused returns that climb
-// to it (jam_s3).
+// to it (jam_s3). A face's top counts as that face (on_wall_top). A return under the sensor
+// is taken only as the near end of level ground rising on over it (rises_on_over_sensor).
 bool ColumnProfiles::rises_over_its_ray(Index k, Index end, bool past_faces_only) const {
   const ColumnPoint& q = points_[k];
-  if (p_.sensor_z <= 0.f || q.z <= p_.sensor_z) return false;
+  if (p_.sensor_z <= 0.f) return false;
+  if (q.z <= p_.sensor_z) return past_faces_only && rises_on_over_sensor(k, end);
   const float ray = (q.z - p_.sensor_z) / q.r;
   float from_r = q.r, from_z = q.z;
   int seen = 0;
@@ -605,6 +607,48 @@ bool ColumnProfiles::rises_over_its_ray(Index k, Index end, bool past_faces_only
     ++seen;
   }
   return seen == p_.rising_ray_returns || (past_faces_only && seen > 0 && j == end);
+}
+
+// Whether a return at (r, z) lies on the top of the wall whose face the column's last steep
+// return (face_r, face_z; face_r < 0: none) met: at most wall_top_m behind it and not under
+// it (a ring grazing a retaining wall's coping, garage).
+bool ColumnProfiles::on_wall_top(float r, float z, float face_r, float face_z) const {
+  return face_r >= 0.f && r >= face_r && r - face_r <= p_.wall_top_m && z >= face_z;
+}
+
+// Whether return k, under the sensor and past faces alone, is the near end of level ground
+// that rises on over the sensor: the column's next return j rises from it gently (not
+// steep, less than shoulder_gradient: level ground, not a hill's flank past a bush, where
+// level 2 decides) to over the sensor, where it rises over its ray (rises_over_its_ray,
+// past faces alone), bending there by no more than gradient_step, and no later return
+// overhangs j (under_overhang), and k does not stand over the level-2 surface where that has
+// ground of its own. The street seen over a retaining wall from deep in a ramp, its near
+// part lower than the sensor (garage), where level 2 follows the ramp and has no ground of
+// its own; not a car's roof seen over a van's side on a measured road, with a truck's box
+// or a facade's upper floors beyond it (jam).
+bool ColumnProfiles::rises_on_over_sensor(Index k, Index end) const {
+  if (raised_over_level2(k, p_.single_rise_m) && level2_.measured(points_[k].index)) return false;
+  const Index j = next_advancing(k, end);
+  if (j == end) return false;
+  const ColumnPoint &q = points_[k], &on = points_[j];
+  const float gradient = (on.z - q.z) / (on.r - q.r);
+  if (on.steep != 0 || gradient < 0.f || gradient >= p_.shoulder_gradient || on.z <= p_.sensor_z)
+    return false;
+  for (Index m = j + 1; m < end; ++m)
+    if (under_overhang(on, points_[m])) return false;
+  const Index beyond = next_advancing(j, end);
+  if (beyond != end) {
+    const float bend = (points_[beyond].z - on.z) / (points_[beyond].r - on.r) - gradient;
+    if (std::abs(bend) > p_.gradient_step) return false;
+  }
+  return rises_over_its_ray(j, end, true);
+}
+
+// The column's first return after k at least min_advance_m farther than k (end: none).
+Index ColumnProfiles::next_advancing(Index k, Index end) const {
+  for (Index j = k + 1; j < end; ++j)
+    if (points_[j].r >= points_[k].r + p_.min_advance_m) return j;
+  return end;
 }
 
 // Whether `above`, the column's next return (a higher ring), lies more than overhang_m
@@ -653,6 +697,9 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
   bool blocked = false;  // an obstacle return since the last ground return
   bool obstacle_seen = false;  // an obstacle return since the start
   bool faces_only = true;  // every obstacle return since the last ground return was steep
+  // The last steep obstacle return (r < 0: none since the last ground return): a return on
+  // the top of its wall still counts as that face.
+  float face_r = -1.f, face_z = 0.f;
   int last_ring = -1;    // ring of the last ground return (-1: the start)
   // The farthest return of the rings below the current one, and of the current ring.
   float lower_far_r = 0.f, lower_far_z = 0.f, ring_far_r = 0.f, ring_far_z = 0.f;
@@ -747,6 +794,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // The foot of a wall off the profile's band (a post on a crowned road's shoulder): the
       // ring may take it where it runs on level with its ground on both sides (fill_shadows).
       if (q.ground == 0 && !vetoed) q.shadowed = kFoot;
+      if (q.ground == 0) face_r = r, face_z = z;
       blocked = true;
       obstacle_seen = true;
       continue;
@@ -821,7 +869,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
                        : 0;
       blocked = true;
       obstacle_seen = true;
-      faces_only = false;
+      faces_only = faces_only && on_wall_top(r, z, face_r, face_z);
       continue;
     }
     q.ground = 1;
@@ -854,6 +902,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     gradient_r = next_gradient_r;
     blocked = false;
     faces_only = true;
+    face_r = -1.f;
     last_ring = q.ring;
   }
 }

@@ -46,6 +46,9 @@ struct ProfileParams {
   // ramp, where level 2 follows the ramp). One such return is enough where the column ends
   // there and only faces stood in front (rises_over_its_ray).
   int rising_ray_returns = 2;
+  // A return at most this far behind a steep face and not under its last return lies on
+  // the wall's top: it counts as that face (on_wall_top).
+  float wall_top_m = 0.5f;
   // ... and for the first return of a column, from the ground under the sensor.
   float start_rise_m = 0.25f, start_rise_per_m = 0.12f;
   float drop_m = 0.5f;         // a return this far under the profile starts a lower surface
@@ -178,6 +181,9 @@ class ColumnProfiles {
   [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
   [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
   [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end, bool past_faces_only) const;
+  [[nodiscard]] bool rises_on_over_sensor(std::size_t k, std::size_t end) const;
+  [[nodiscard]] std::size_t next_advancing(std::size_t k, std::size_t end) const;
+  [[nodiscard]] bool on_wall_top(float r, float z, float face_r, float face_z) const;
   [[nodiscard]] bool under_overhang(const ColumnPoint& q, const ColumnPoint& above) const;
   [[nodiscard]] bool under_level_overhang(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool past_hidden_top(float r, float last_r, float last_z) const;

@@ -1189,3 +1189,47 @@ TEST_CASE("column profiles: the vehicle's road seen by any two consecutive rings
   CHECK(kept(0.f) == 21);
   CHECK(kept(-0.35f) == 0);  // ring 3 not level with it: nothing vouches for ring 2
 }
+
+TEST_CASE("column profiles: the street over a ramp's wall, past its top or from under the sensor",
+          "[detector][profiles]") {
+  // Deep in a ramp (sim garage_s501, Puck Hi-Res, frame 4): rings 0-6 meet the retaining
+  // wall 3.7-3.9 m out; the rings over it meet the street 1.5-3.8 m up in the vehicle frame
+  // (pitched down the ramp). Level 2 follows the ramp: the street stands over it by its z.
+  const auto heights_over_ramp = [](const Scan& s) { return s.cloud.z; };
+  const auto wall = [](Scan& s, float r, int top_ring) {
+    for (int ring = 0; ring <= top_ring; ++ring) {
+      add(s, ring, 0, r, 1.1f + 0.09f * static_cast<float>(ring), 2);
+    }
+  };
+  // Column 1540: ring 7 grazes the wall's top 0.3 m behind its face; ring 8 meets the street
+  // over the sensor and ring 9 farther up (one rising return, then the sky): the wall's top
+  // is part of that face, so only faces stood in front.
+  const auto past_wall_top = [&](float top_r) {
+    Scan s;
+    wall(s, 3.93f, 6);
+    add(s, 7, 0, top_r, 1.73f, 2);
+    add(s, 8, 0, 25.48f, 2.08f, 1);
+    add(s, 9, 0, 46.f, 3.38f, 1);
+    return label(s, heights_over_ramp(s)).ground[8];
+  };
+  CHECK(past_wall_top(4.23f) == 1);
+  CHECK(past_wall_top(5.f) == 0);  // a refused return 1 m behind the face is no wall top
+  // Column 1520: ring 7 meets the street under the sensor (1.56 m at 19 m); ring 8 goes on
+  // rising to over the sensor, where it rises over its ray to ring 9.
+  const auto street_from_under = [&](float z9, bool measured, bool overhang) {
+    Scan s;
+    wall(s, 3.74f, 6);
+    add(s, 7, 0, 19.08f, 1.56f, 1);
+    add(s, 8, 0, 28.85f, 2.12f, 1);
+    add(s, 9, 0, 58.38f, z9, 1);
+    if (overhang) add(s, 10, 0, 19.f, 2.5f, 2);  // nearer than ring 8, over its ray
+    return label(s, heights_over_ramp(s), {}, measured).ground[7];
+  };
+  CHECK(street_from_under(3.82f, false, false) == 1);
+  // Not a car's roof seen over a van's side where level 2 measured the road under it, nor
+  // one with a truck's box or a facade beyond (the surface bends up by more than
+  // gradient_step at ring 8, or something nearer overhangs ring 8: jam).
+  CHECK(street_from_under(3.82f, true, false) == 0);
+  CHECK(street_from_under(14.f, false, false) == 0);
+  CHECK(street_from_under(3.82f, false, true) == 0);
+}
