@@ -9,8 +9,9 @@
 # 101..100+N: held out when made; some of their captures were examined since) and
 # DIR/unseen (seeds 601..600+N: only ever measured, never examined to change the detector;
 # when one of its captures is, move the first seed on and say so in docs/detector.md).
-# Default DIR build/eval-set, N = 5 seeds, 4 frames per capture. With --table, prints docs/accuracy.md (vlpground_accuracy_table over
-# both halves, every capture in pcaps/ and ../shared/data/sim when present) to stdout.
+# Default DIR build/eval-set, N = 5 seeds, 4 frames per capture. With --table, prints
+# docs/accuracy.md (vlpground_accuracy_table over the three sets, every capture in pcaps/
+# and ../shared/data/sim when present) to stdout.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="${root}/build/eval-set"

@@ -218,25 +218,32 @@ struct TargetMisses {
   }
 };
 
-// "F1 under 0.98 on N of M captures: a 0.970, b 0.975" (worst first), or "on none of M".
-void print_misses(const char* what, std::vector<std::pair<double, std::string>> misses,
-                  std::size_t captures, double scale, const char* unit) {
+// "WHAT on N of the M captures: a 0.9700, b 0.9750" (worst first), or "WHAT on none of the M
+// captures". Values are scaled by `scale` and cut (not rounded) to `digits` decimals, so that
+// a miss never prints as the target itself (an F1 of 0.979997 is 0.9799).
+void print_misses(const std::string& what, std::vector<std::pair<double, std::string>> misses,
+                  std::size_t captures, double scale, int digits, const char* unit) {
   std::sort(misses.begin(), misses.end());
   if (misses.empty()) {
-    std::printf("%s on none of the %zu captures", what, captures);
+    std::printf("%s on none of the %zu captures", what.c_str(), captures);
     return;
   }
-  std::printf("%s on %zu of the %zu captures:", what, misses.size(), captures);
-  for (std::size_t i = 0; i < misses.size(); ++i)
-    std::printf("%s %s %.*f%s", i == 0 ? "" : ",", misses[i].second.c_str(), scale > 1 ? 2 : 4,
-                std::abs(misses[i].first) * scale, unit);
+  std::printf("%s on %zu of the %zu captures:", what.c_str(), misses.size(), captures);
+  const double step = std::pow(10.0, digits);
+  for (std::size_t i = 0; i < misses.size(); ++i) {
+    const double shown = std::trunc(std::abs(misses[i].first) * scale * step) / step;
+    std::printf("%s %s %.*f%s", i == 0 ? "" : ",", misses[i].second.c_str(), digits, shown, unit);
+  }
 }
 
 void print_target_misses(const char* method, std::size_t captures, const TargetMisses& m) {
+  char f1[32], high[64];
+  std::snprintf(f1, sizeof f1, "F1 under %.2f", kTargetF1);
+  std::snprintf(high, sizeof high, "high obstacles as ground over %.1f %%", 100 * kTargetHighAsGround);
   std::printf("Targets, method `%s`: ", method);
-  print_misses("F1 under 0.98", m.low_f1, captures, 1, "");
+  print_misses(f1, m.low_f1, captures, 1, 4, "");
   std::printf("; ");
-  print_misses("high obstacles as ground over 0.5 %", m.high_as_ground, captures, 100, " %");
+  print_misses(high, m.high_as_ground, captures, 100, 2, " %");
   std::printf(".\n\n");
 }
 
