@@ -219,10 +219,11 @@ struct TargetMisses {
 };
 
 // "WHAT on N of the M captures: a 0.9700, b 0.9750" (worst first), or "WHAT on none of the M
-// captures". Values are scaled by `scale` and cut (not rounded) to `digits` decimals, so that
-// a miss never prints as the target itself (an F1 of 0.979997 is 0.9799).
+// captures". Values are scaled by `scale` and rounded to `digits` decimals away from the
+// target (down for a floor, `ceiling` false; up for a ceiling), so that a miss never prints
+// as the target itself (an F1 of 0.979997 is 0.9799, a share of 0.5004 % is 0.51 %).
 void print_misses(const std::string& what, std::vector<std::pair<double, std::string>> misses,
-                  std::size_t captures, double scale, int digits, const char* unit) {
+                  std::size_t captures, double scale, int digits, bool ceiling, const char* unit) {
   std::sort(misses.begin(), misses.end());
   if (misses.empty()) {
     std::printf("%s on none of the %zu captures", what.c_str(), captures);
@@ -231,7 +232,8 @@ void print_misses(const std::string& what, std::vector<std::pair<double, std::st
   std::printf("%s on %zu of the %zu captures:", what.c_str(), misses.size(), captures);
   const double step = std::pow(10.0, digits);
   for (std::size_t i = 0; i < misses.size(); ++i) {
-    const double shown = std::trunc(std::abs(misses[i].first) * scale * step) / step;
+    const double v = std::abs(misses[i].first) * scale * step;
+    const double shown = (ceiling ? std::ceil(v) : std::floor(v)) / step;
     std::printf("%s %s %.*f%s", i == 0 ? "" : ",", misses[i].second.c_str(), digits, shown, unit);
   }
 }
@@ -241,9 +243,9 @@ void print_target_misses(const char* method, std::size_t captures, const TargetM
   std::snprintf(f1, sizeof f1, "F1 under %.2f", kTargetF1);
   std::snprintf(high, sizeof high, "high obstacles as ground over %.1f %%", 100 * kTargetHighAsGround);
   std::printf("Targets, method `%s`: ", method);
-  print_misses(f1, m.low_f1, captures, 1, 4, "");
+  print_misses(f1, m.low_f1, captures, 1, 4, false, "");
   std::printf("; ");
-  print_misses(high, m.high_as_ground, captures, 100, 2, " %");
+  print_misses(high, m.high_as_ground, captures, 100, 2, true, " %");
   std::printf(".\n\n");
 }
 
