@@ -14,7 +14,8 @@ std::optional<std::filesystem::path> shared_file(const std::string& sub, const s
 /// `<source>/pcaps/<name>`.
 std::filesystem::path project_pcap(const std::string& name);
 
-/// A fresh empty temporary directory for one test.
+/// A fresh empty temporary directory for one test, removed when the test program exits
+/// (kept when the environment variable VLPGROUND_KEEP_TEST_FILES is set, for a post-mortem).
 std::filesystem::path temp_dir(const std::string& tag);
 
 }  // namespace vlpground::test
