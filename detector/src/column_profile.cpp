@@ -824,9 +824,10 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     if (over < -p_.drop_m) {  // a lower surface (fields below a levee): level from here
       accept = true;
       // ... unless it still rises from the last ground return, bending no more than at any
-      // return: a hill's shoulder, rising on at the measured gradient.
+      // return: a hill's shoulder, rising on at the measured gradient (also when it rises
+      // only gently: a valley's far side rising on behind a convex shoulder, hills_s702).
       const bool rising = step >= p_.shoulder_gradient;
-      if (rising && step >= gradient - p_.gradient_step) {
+      if (step >= p_.keep_gradient_rise && step >= gradient - p_.gradient_step) {
         next_gradient = step;
       } else {
         next_gradient_r = r;
@@ -837,8 +838,13 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       if (rising && k + 1 < end && under_overhang(q, points_[k + 1])) accept = false;
       if (rising && accept && under_level_overhang(k, end)) accept = false;
       // ... nor the column's last return far past a climb over the sensor: what stands on
-      // a top the rings cannot see (past_hidden_top).
-      if (rising && k + 1 == end && past_hidden_top(r, last_r, last_z)) accept = false;
+      // a top the rings cannot see (past_hidden_top), unless it lies on the level-2 surface
+      // where that surface has ground of its own (the climb's hillside rising on, met by
+      // the next ring far out: hills_s504, hills_s702).
+      if (rising && k + 1 == end && past_hidden_top(r, last_r, last_z) &&
+          !(std::abs(q.level2_h) <= p_.plane_band_m && level2_.measured(q.index))) {
+        accept = false;
+      }
     } else {
       const float rise = blocked           ? p_.blocked_rise_m + p_.blocked_rise_per_m * advance
                          : profile_size_ == 1 ? p_.start_rise_m + p_.start_rise_per_m * advance

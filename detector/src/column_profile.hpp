@@ -54,16 +54,23 @@ struct ProfileParams {
   float drop_m = 0.5f;         // a return this far under the profile starts a lower surface
   // ... level, unless it still rises at least this from the last ground return (and the
   // gradient bends no more than gradient_step): a hill's shoulder keeps that gradient.
+  // (Taken as level, a gentler rise lost a valley's far side behind a convex shoulder,
+  // hills_s702; keeping any rise at all let a fence line's gentle chord reach a wall's foot.)
+  float keep_gradient_rise = 0.05f;
+  // A return rising at least this from the last ground return (a hill's shoulder) is
+  // ground only where it is not under an overhang (overhang_m) and not past a hidden top
+  // (hidden_top_range_ratio).
   float shoulder_gradient = 0.1f;
-  // ... and is not under an overhang: the column's next (higher) ring met something more
-  // than this nearer and over the return's ray there (a tree crown on a bank's top met
-  // from below).
-  // (or a later ring met something that much nearer, over the ray and level with the
+  // Not under an overhang: the column's next (higher) ring met something more than this
+  // nearer and over the return's ray there (a tree crown on a bank's top met from below),
+  // or a later ring met something that much nearer, over the ray and level with the
   // return, within single_rise_m: a roof or a canopy whose far edge the return met, seen
-  // from below by the rings over it: under_level_overhang).
+  // from below by the rings over it (under_level_overhang).
   float overhang_m = 1.f;
-  // ... and is not the column's last return more than this times as far as the ground
-  // return before it, where that ground lay over the sensor after a climb (past_hidden_top).
+  // Not past a hidden top: the column's last return, more than this times as far as the
+  // ground return before it, where that ground lay over the sensor after a climb
+  // (past_hidden_top), unless it lies within plane_band_m of the level-2 surface where that
+  // surface has ground of its own (the hillside rising on, met far out: hills_s702).
   float hidden_top_range_ratio = 1.6f;
   float min_advance_m = 0.3f;  // nearer than this (horizontally) to the last ground return
   float anchor_slack_m = 0.05f;  // ... a ground return moves the profile's end at most

@@ -1233,3 +1233,72 @@ TEST_CASE("column profiles: the street over a ramp's wall, past its top or from 
   CHECK(street_from_under(14.f, false, false) == 0);
   CHECK(street_from_under(3.82f, false, true) == 0);
 }
+
+TEST_CASE("column profiles: a valley's far side rising on behind a convex shoulder is ground",
+          "[detector][profiles]") {
+  // Sim hills_s702 (frame 4, column 800): the vehicle low in a valley, the column climbing
+  // its side at 0.23 to 11 m; ring 8 passes over a convex shoulder and meets the side rising
+  // on gently (0.08) 24 m out, half a metre under the climb extrapolated (a lower surface);
+  // ring 9 meets it rising at 0.24 again 29 m out. Level 2 follows the side everywhere.
+  const float r[] = {5.15f, 5.56f, 6.53f, 7.14f, 7.78f, 8.61f, 9.62f, 11.17f, 23.67f, 29.08f};
+  const float z[] = {0.59f, 0.68f, 0.93f, 1.09f, 1.28f, 1.51f, 1.79f, 2.15f, 3.19f, 4.50f};
+  Scan s;
+  for (int ring = 0; ring < 10; ++ring) add(s, ring, 0, r[ring], z[ring], 1);
+  const auto on_side = [&](float keep_gradient_rise) {
+    std::vector<std::uint8_t> steep;
+    mark_steep(s.cloud, steep);
+    ProfileParams p;
+    p.sensor_z = 1.8f;
+    p.keep_gradient_rise = keep_gradient_rise;
+    std::vector<float> height(s.cloud.size(), 0.f);
+    const std::vector<float> plane(s.cloud.size(), std::nanf(""));
+    std::vector<std::int32_t> point_bin(s.cloud.size(), 0);
+    const std::int32_t cell_of_bin[] = {0};
+    const CellState cell_state[] = {CellState::refined};
+    std::vector<std::uint8_t> ground;
+    ColumnProfiles().label(s.cloud, steep.data(), {point_bin.data(), cell_of_bin, cell_state},
+                           plane, p, ground, height);
+    return ground;
+  };
+  const ProfileParams defaults;
+  const auto ground = on_side(defaults.keep_gradient_rise);
+  for (int ring = 0; ring < 10; ++ring) CHECK(ground[static_cast<std::size_t>(ring)] == 1);
+  // Ring 8's rise taken as level (the shoulder gradient's threshold): ring 9 stands 1.3 m
+  // over it, more than a rise allows.
+  CHECK(on_side(defaults.shoulder_gradient)[9] == 0);
+
+  // Sim fences_s3 (tilted, frame 1, column 1532): the road to 8 m, a low wall there, fence
+  // tops the walk takes at 12.6-20.7 m, the last rising only 0.02 from the one before (under
+  // the climb extrapolated), then a wall's foot 35 m out. Kept, that gentle rise would carry
+  // the profile onto the wall's foot (steep_band_m); taken as level it stays 0.3 m under it.
+  Scan f;
+  const float fr[] = {5.98f, 6.82f, 7.88f, 8.26f, 8.28f, 12.56f, 14.61f, 20.74f, 35.08f, 35.10f};
+  const float fz[] = {0.01f, 0.f, 0.f, 0.2f, 0.5f, 0.21f, 0.45f, 0.57f, 0.86f, 2.09f};
+  const int ftruth[] = {1, 1, 1, 2, 2, 2, 2, 2, 2, 2};
+  for (int ring = 0; ring < 10; ++ring) add(f, ring, 0, fr[ring], fz[ring], ftruth[ring]);
+  const std::vector<float> level2 = {0.05f, 0.05f, -0.01f, 0.2f, 0.49f,
+                                     0.23f, 0.48f, 0.69f, 1.06f, 2.28f};
+  CHECK(label(f, level2, {}, true).ground[8] == 0);
+}
+
+TEST_CASE("column profiles: past a hidden top, a return on a measured level-2 surface is ground",
+          "[detector][profiles]") {
+  // Sim hills_s702 (frame 4, column 600): the column climbs a valley's side to 2.7 m (over
+  // the sensor) 14.5 m out; ring 10, the column's last return, meets the side 36 m out, 2.5
+  // times as far: past_hidden_top's shed on a bank's top, but level 2, fitted to ground of
+  // its own there, lies through it.
+  const auto last_return = [](float level2_h, bool measured) {
+    Scan s;
+    const float r[] = {5.56f, 6.05f, 6.56f, 7.2f, 7.85f, 8.61f, 9.55f, 10.66f, 12.1f, 14.49f, 36.23f};
+    const float z[] = {0.48f, 0.57f, 0.69f, 0.82f, 1.f, 1.21f, 1.46f, 1.77f, 2.17f, 2.71f, 5.12f};
+    for (int ring = 0; ring < 11; ++ring) add(s, ring, 0, r[ring], z[ring], 1);
+    std::vector<float> level2(s.cloud.size(), 0.f);
+    level2.back() = level2_h;
+    std::vector<bool> measured_at(s.cloud.size(), true);
+    measured_at.back() = measured;
+    return label_by_cell(s, level2, {}, measured_at).ground.back();
+  };
+  CHECK(last_return(0.f, true) == 1);
+  CHECK(last_return(0.f, false) == 0);   // level 2 only extrapolated there
+  CHECK(last_return(0.15f, true) == 0);  // off the level-2 surface (a shed's roof)
+}
