@@ -651,6 +651,31 @@ Index ColumnProfiles::next_advancing(Index k, Index end) const {
   return end;
 }
 
+// Whether return k, rising from the column's last ground return at gradient `step` by more
+// than the profile may bend up at one return, is the terrain climbing on over the sensor:
+// it lies over the sensor (met by a rising ray) on the level-2 surface where that surface has
+// ground of its own (on_measured_level2), and the column's next return goes on from it on
+// that surface, not steep, bending down by no more than gradient_step. A valley's far side
+// behind a convex shoulder, the column's rise there too sudden for the walk (hills_s702,
+// hills_s402); not a fence line's top that level 2 was fitted to, under the sensor, nor one
+// past which the next ring falls to the ground beyond.
+bool ColumnProfiles::climbs_on_level2(Index k, Index end, float step) const {
+  const ColumnPoint& q = points_[k];
+  if (p_.sensor_z <= 0.f || q.z <= p_.sensor_z || !on_measured_level2(q)) return false;
+  const Index j = next_advancing(k, end);
+  if (j == end) return false;
+  const ColumnPoint& next = points_[j];
+  const float gradient = (next.z - q.z) / (next.r - q.r);
+  return next.steep == 0 && gradient <= p_.max_gradient && gradient >= step - p_.gradient_step &&
+         on_measured_level2(next);
+}
+
+// Whether q lies within plane_band_m of the level-2 surface where that surface has ground of
+// its own (Level2Coverage::measured).
+bool ColumnProfiles::on_measured_level2(const ColumnPoint& q) const {
+  return std::abs(q.level2_h) <= p_.plane_band_m && level2_.measured(q.index);
+}
+
 // Whether `above`, the column's next return (a higher ring), lies more than overhang_m
 // nearer than q and over q's ray at its distance.
 bool ColumnProfiles::under_overhang(const ColumnPoint& q, const ColumnPoint& above) const {
@@ -842,7 +867,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // where that surface has ground of its own (the climb's hillside rising on, met by
       // the next ring far out: hills_s504, hills_s702).
       if (rising && k + 1 == end && past_hidden_top(r, last_r, last_z) &&
-          !(std::abs(q.level2_h) <= p_.plane_band_m && level2_.measured(q.index))) {
+          !on_measured_level2(q)) {
         accept = false;
       }
     } else {
@@ -859,7 +884,8 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       const bool resumes = blocked && (std::abs(step - gradient) <= p_.resume_gradient_change
                                            ? on_guess
                                            : resumes_bent(k, step, 0.5f * (last_r + r) - gradient_r));
-      accept = std::abs(step) <= p_.max_gradient && (over <= rise || resumes);
+      accept = std::abs(step) <= p_.max_gradient &&
+               (over <= rise || resumes || (!blocked && climbs_on_level2(k, end, step)));
       next_gradient = std::clamp(step, gradient - p_.gradient_step, gradient + p_.gradient_step);
     }
     // Past an obstacle, a return on a level-1 plane that explains its cell is ground too.

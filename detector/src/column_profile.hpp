@@ -191,6 +191,8 @@ class ColumnProfiles {
   [[nodiscard]] bool rises_on_over_sensor(std::size_t k, std::size_t end) const;
   [[nodiscard]] std::size_t next_advancing(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool on_wall_top(float r, float z, float face_r, float face_z) const;
+  [[nodiscard]] bool climbs_on_level2(std::size_t k, std::size_t end, float step) const;
+  [[nodiscard]] bool on_measured_level2(const ColumnPoint& q) const;
   [[nodiscard]] bool under_overhang(const ColumnPoint& q, const ColumnPoint& above) const;
   [[nodiscard]] bool under_level_overhang(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool past_hidden_top(float r, float last_r, float last_z) const;

@@ -1302,3 +1302,37 @@ TEST_CASE("column profiles: past a hidden top, a return on a measured level-2 su
   CHECK(last_return(0.f, false) == 0);   // level 2 only extrapolated there
   CHECK(last_return(0.15f, true) == 0);  // off the level-2 surface (a shed's roof)
 }
+
+TEST_CASE("column profiles: terrain climbing on over the sensor on a measured level 2 is ground",
+          "[detector][profiles]") {
+  // Sim hills_s702 (frame 1, column 950): the column climbs a valley's side to 11 m, ring 7
+  // lands on a gentle stretch 22 m out (taken as level), ring 8 meets the side rising at
+  // 0.2 again 26 m out, 0.8 m over the level profile (more than a rise allows over 4 m),
+  // over the sensor (1.8 m); ring 9 goes on rising at 0.24. Level 2 follows the side.
+  const float r[] = {5.47f, 5.95f, 6.55f, 7.26f, 8.14f, 9.34f, 11.37f, 21.66f, 25.81f, 30.6f};
+  const float z[] = {0.5f, 0.59f, 0.69f, 0.81f, 0.96f, 1.14f, 1.36f, 1.58f, 2.41f, 3.56f};
+  struct Case {
+    float z_offset_far = 0.f;   // added to rings 7-9
+    float ring9_z = 3.56f;      // ring 9's height
+    float ring9_level2 = 0.f;   // ring 9's height over level 2
+    bool ring8_measured = true;  // level 2 has ground of its own under ring 8
+  };
+  const auto ring8 = [&](const Case& c) {
+    Scan s;
+    for (int ring = 0; ring < 10; ++ring) {
+      const float zr = ring == 9 ? c.ring9_z : z[ring];
+      add(s, ring, 0, r[ring], zr + (ring >= 7 ? c.z_offset_far : 0.f), 1);
+    }
+    std::vector<float> level2(s.cloud.size(), 0.f);
+    level2[9] = c.ring9_level2;
+    std::vector<bool> measured(s.cloud.size(), true);
+    measured[8] = c.ring8_measured;
+    return label_by_cell(s, level2, {}, measured).ground[8];
+  };
+  CHECK(ring8({}) == 1);
+  CHECK(ring8({.ring8_measured = false}) == 0);  // level 2 only extrapolated there
+  CHECK(ring8({.ring9_level2 = 0.2f}) == 0);     // the next return off the level-2 surface
+  CHECK(ring8({.ring9_z = 1.6f}) == 0);  // the next ring falls past it: a fence line's top
+  CHECK(ring8({.z_offset_far = -1.f}) == 0);  // under the sensor, where level 2 may lie on a
+                                              // fence line's tops
+}
