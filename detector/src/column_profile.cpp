@@ -626,22 +626,40 @@ bool ColumnProfiles::on_wall_top(float r, float z, float face_r, float face_z) c
 // part lower than the sensor (garage), where level 2 follows the ramp and has no ground of
 // its own; not a car's roof seen over a van's side on a measured road, with a truck's box
 // or a facade's upper floors beyond it (jam).
+// Where k lies under the top of the face in front (the last face's highest return), the
+// level ground may also run on under the sensor (each return on rising less than
+// level_run_gradient from the one before, with the same bend and overhang checks) to the
+// column's last return, or to one over the sensor that rises over its ray or is the last:
+// the street seen over a ramp's parapet from a vehicle pitched on the ramp or tilted on its
+// mounting, which the street's returns never climb over (garage_s703 tilted, garage_s604).
+// A roof past a car's side lies level with the side's highest return or over it (the ray
+// that passed over the side falls to it), and two roofs rise more steeply (jam_s604, s704).
 bool ColumnProfiles::rises_on_over_sensor(Index k, Index end) const {
   if (raised_over_level2(k, p_.single_rise_m) && level2_.measured(points_[k].index)) return false;
-  const Index j = next_advancing(k, end);
+  const bool under_face_top = face_r_ >= 0.f && points_[k].z < face_z_;
+  Index from = k;
+  Index j = next_advancing(k, end);
   if (j == end) return false;
-  const ColumnPoint &q = points_[k], &on = points_[j];
-  const float gradient = (on.z - q.z) / (on.r - q.r);
-  if (on.steep != 0 || gradient < 0.f || gradient >= p_.shoulder_gradient || on.z <= p_.sensor_z)
-    return false;
-  for (Index m = j + 1; m < end; ++m)
-    if (under_overhang(on, points_[m])) return false;
-  const Index beyond = next_advancing(j, end);
-  if (beyond != end) {
-    const float bend = (points_[beyond].z - on.z) / (points_[beyond].r - on.r) - gradient;
-    if (std::abs(bend) > p_.gradient_step) return false;
+  for (;;) {
+    const ColumnPoint &q = points_[from], &on = points_[j];
+    const float gradient = (on.z - q.z) / (on.r - q.r);
+    if (on.steep != 0 || gradient < 0.f || gradient >= p_.shoulder_gradient) return false;
+    for (Index m = j + 1; m < end; ++m)
+      if (under_overhang(on, points_[m])) return false;
+    const Index beyond = next_advancing(j, end);
+    if (beyond != end) {
+      const float bend = (points_[beyond].z - on.z) / (points_[beyond].r - on.r) - gradient;
+      if (std::abs(bend) > p_.gradient_step) return false;
+    }
+    if (on.z > p_.sensor_z) {
+      if (from == k && rises_over_its_ray(j, end, true)) return true;
+      return under_face_top && (beyond == end || rises_over_its_ray(j, end, true));
+    }
+    if (!under_face_top || gradient >= p_.level_run_gradient) return false;
+    if (beyond == end) return true;
+    from = j;
+    j = beyond;
   }
-  return rises_over_its_ray(j, end, true);
 }
 
 // The column's first return after k at least min_advance_m farther than k (end: none).
@@ -724,7 +742,8 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
   bool faces_only = true;  // every obstacle return since the last ground return was steep
   // The last steep obstacle return (r < 0: none since the last ground return): a return on
   // the top of its wall still counts as that face.
-  float face_r = -1.f, face_z = 0.f;
+  face_r_ = -1.f;
+  face_z_ = 0.f;
   int last_ring = -1;    // ring of the last ground return (-1: the start)
   // The farthest return of the rings below the current one, and of the current ring.
   float lower_far_r = 0.f, lower_far_z = 0.f, ring_far_r = 0.f, ring_far_z = 0.f;
@@ -819,7 +838,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // The foot of a wall off the profile's band (a post on a crowned road's shoulder): the
       // ring may take it where it runs on level with its ground on both sides (fill_shadows).
       if (q.ground == 0 && !vetoed) q.shadowed = kFoot;
-      if (q.ground == 0) face_r = r, face_z = z;
+      if (q.ground == 0) face_r_ = r, face_z_ = z;
       blocked = true;
       obstacle_seen = true;
       continue;
@@ -901,7 +920,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
                        : 0;
       blocked = true;
       obstacle_seen = true;
-      faces_only = faces_only && on_wall_top(r, z, face_r, face_z);
+      faces_only = faces_only && on_wall_top(r, z, face_r_, face_z_);
       continue;
     }
     q.ground = 1;
@@ -934,7 +953,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     gradient_r = next_gradient_r;
     blocked = false;
     faces_only = true;
-    face_r = -1.f;
+    face_r_ = -1.f;
     last_ring = q.ring;
   }
 }

@@ -61,6 +61,10 @@ struct ProfileParams {
   // ground only where it is not under an overhang (overhang_m) and not past a hidden top
   // (hidden_top_range_ratio).
   float shoulder_gradient = 0.1f;
+  // Level ground seen past a face, under the face's top, may run on under the sensor from
+  // return to return rising less than this (rises_on_over_sensor). (At shoulder_gradient,
+  // car roofs rising 0.07-0.08 from one to the next past a car's side, jam_s704.)
+  float level_run_gradient = 0.06f;
   // Not under an overhang: the column's next (higher) ring met something more than this
   // nearer and over the return's ray there (a tree crown on a bank's top met from below),
   // or a later ring met something that much nearer, over the ray and level with the
@@ -240,6 +244,9 @@ class ColumnProfiles {
   const std::uint8_t* steep_ = nullptr;  // the frame's steep flags, by cloud point (label)
   Level2Coverage level2_;  // where the level-2 surface has ground of its own (label)
   float start_z_ = 0.f;  // the ground under the vehicle, where every column starts
+  // The walked column's last steep obstacle return since its last ground return (face_r_ < 0:
+  // none): a return on the top of its wall still counts as that face (walk_column).
+  float face_r_ = -1.f, face_z_ = 0.f;
   // The ground returns walked in the current column (the start under the sensor first).
   std::array<float, 2 * kLasers + 1> profile_r_{}, profile_z_{};
   std::size_t profile_size_ = 0;

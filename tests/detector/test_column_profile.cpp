@@ -1234,6 +1234,59 @@ TEST_CASE("column profiles: the street over a ramp's wall, past its top or from 
   CHECK(street_from_under(3.82f, false, true) == 0);
 }
 
+TEST_CASE("column profiles: the street over a ramp's wall running on under the sensor",
+          "[detector][profiles]") {
+  // Sim garage_s703 tilted (pitch 3, roll 4 degrees), frame 1, heights 0.2 m lower (sensor
+  // 1.8 m here, 2.0 m there): the vehicle pitched on the ramp sees the street beside it
+  // rise gently but never climb over the sensor. Level 2 follows the ramp: the street
+  // stands over it by its z. The retaining wall's face: rings 0..top_ring, `top_z` the
+  // highest return.
+  const auto heights_over_ramp = [](const Scan& s) { return s.cloud.z; };
+  const auto wall = [](Scan& s, float r, int top_ring, float top_z) {
+    for (int ring = 0; ring <= top_ring; ++ring) {
+      add(s, ring, 0, r, top_z - 0.13f * static_cast<float>(top_ring - ring), 2);
+    }
+  };
+  // Column 1440: rings 5 and 6 on the street, under the sensor, ring 6 the column's last.
+  // Each ring rises from the one before by `gradient`.
+  const auto to_column_end = [&](float top_z, float r6, float gradient) {
+    Scan s;
+    wall(s, 3.85f, 4, top_z);
+    add(s, 5, 0, 19.6f, 1.1f, 1);
+    add(s, 6, 0, r6, 1.1f + gradient * (r6 - 19.6f), 1);
+    return label(s, heights_over_ramp(s)).ground[5];
+  };
+  CHECK(to_column_end(1.53f, 38.43f, 0.0356f) == 1);
+  CHECK(to_column_end(1.53f, 25.f, 0.03f) == 1);
+  // Not a roof past a car's side, level with the side's highest return or over it
+  // (jam_s604), nor roofs rising from one to the next by level_run_gradient or more
+  // (jam_s704: 0.07-0.08).
+  CHECK(to_column_end(1.05f, 38.43f, 0.0356f) == 0);
+  CHECK(to_column_end(1.53f, 25.f, 0.07f) == 0);
+  // Column 1480: ring 6 on the street under the sensor, ring 7 the column's last return,
+  // over the sensor (no return beyond it to rise over its ray).
+  const auto to_last_over_sensor = [&](float top_z) {
+    Scan s;
+    wall(s, 4.06f, 5, top_z);
+    add(s, 6, 0, 22.33f, 1.55f, 1);
+    add(s, 7, 0, 50.69f, 3.0f, 1);
+    return label(s, heights_over_ramp(s)).ground[6];
+  };
+  CHECK(to_last_over_sensor(1.62f) == 1);
+  CHECK(to_last_over_sensor(1.5f) == 0);
+  // Column 1460: rings 5 and 6 under the sensor, ring 7 over it, the column's last.
+  const auto on_to_over_sensor = [&](float top_z) {
+    Scan s;
+    wall(s, 3.94f, 4, top_z);
+    add(s, 5, 0, 16.56f, 1.13f, 1);
+    add(s, 6, 0, 28.28f, 1.64f, 1);
+    add(s, 7, 0, 96.74f, 4.6f, 1);
+    return label(s, heights_over_ramp(s)).ground[5];
+  };
+  CHECK(on_to_over_sensor(1.5f) == 1);
+  CHECK(on_to_over_sensor(1.1f) == 0);
+}
+
 TEST_CASE("column profiles: a valley's far side rising on behind a convex shoulder is ground",
           "[detector][profiles]") {
   // Sim hills_s702 (frame 4, column 800): the vehicle low in a valley, the column climbing
