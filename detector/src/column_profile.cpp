@@ -47,6 +47,7 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
     walk_column(c, column_start_[c], column_start_[c + 1], plane_height, height);
   }
   find_ring_runs(cloud, strongest);  // for the silhouettes and the shadows
+  drop_short_level_runs(cloud);
   // Silhouettes first: an object standing out (a facade's ring line that the walk took past
   // a fence line) must not vouch for a single rise below it.
   remove_silhouettes(cloud);
@@ -104,6 +105,27 @@ bool ColumnProfiles::continuous_across_edge(const Cloud& cloud, Index end, Index
   const float limit = kEdgeMotionSlack * run_gap(cloud.range_xy[end]);
   return gap <= p_.run_column_gap && close_in_range_and_height(cloud, end, start, limit) &&
          !apart(cloud, end, start, limit);
+}
+
+// Level ground taken running on past a face under the sensor (ColumnPoint::level_run) lies
+// on a ring run longer than level_run_min_m (the chord between its ends; a run across the
+// frame's edge counts as long): the street beside a ramp runs on along the ring between the
+// cars parked on it, where roofs past a car's side are short runs between nearer returns
+// (jam). Dropped, such a return is refused past an obstacle in front, as the walk would
+// have refused it: fill_shadows may still take it from the ring.
+void ColumnProfiles::drop_short_level_runs(const Cloud& cloud) {
+  const float min_sq = p_.level_run_min_m * p_.level_run_min_m;
+  for (const RingRun& run : runs_) {
+    if (run.wrap != kNoRun) continue;
+    const float dx = cloud.x[run.b] - cloud.x[run.a], dy = cloud.y[run.b] - cloud.y[run.a];
+    if (dx * dx + dy * dy > min_sq) continue;
+    for (Index i = run.a; i <= run.b; ++i) {
+      ColumnPoint& q = points_[position_[i]];
+      if (q.level_run == 0) continue;
+      q.ground = 0;
+      q.shadowed = kShadow;
+    }
+  }
 }
 
 // Terrain seen by a ring is a long continuous curve: a short run whose both ends border the
@@ -626,17 +648,19 @@ bool ColumnProfiles::on_wall_top(float r, float z, float face_r, float face_z) c
 // part lower than the sensor (garage), where level 2 follows the ramp and has no ground of
 // its own; not a car's roof seen over a van's side on a measured road, with a truck's box
 // or a facade's upper floors beyond it (jam).
-// Where k lies under the top of the face in front (the last face's highest return), the
-// level ground may also run on under the sensor (each return on rising less than
+// On the walk's second try (level_runs_allowed_, when nothing else took k), where k lies
+// under the top of the face in front (the last face's highest return), the level ground
+// may also run on under the sensor (each return on rising less than
 // level_run_gradient from the one before, with the same bend and overhang checks) to the
 // column's last return, or to one over the sensor that rises over its ray or is the last:
 // the street seen over a ramp's parapet from a vehicle pitched on the ramp or tilted on its
 // mounting, which the street's returns never climb over (garage_s703 tilted, garage_s604).
 // A roof past a car's side lies level with the side's highest return or over it (the ray
-// that passed over the side falls to it), and two roofs rise more steeply (jam_s604, s704).
+// that passed over the side falls to it), and two roofs rise more steeply (jam_s604, s704);
+// level roofs that pass these are short along their ring (drop_short_level_runs).
 bool ColumnProfiles::rises_on_over_sensor(Index k, Index end) const {
   if (raised_over_level2(k, p_.single_rise_m) && level2_.measured(points_[k].index)) return false;
-  const bool under_face_top = face_r_ >= 0.f && points_[k].z < face_z_;
+  const bool under_face_top = level_runs_allowed_ && face_r_ >= 0.f && points_[k].z < face_z_;
   Index from = k;
   Index j = next_advancing(k, end);
   if (j == end) return false;
@@ -863,6 +887,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     }
     const float step = (z - last_z) / advance;  // gradient from the last ground return
     bool accept = false;
+    bool level_run = false;  // taken only as level ground running on past a face
     float next_gradient = 0.f;
     float next_gradient_r = 0.5f * (last_r + r);  // a chord's gradient holds at its middle
     if (over < -p_.drop_m) {  // a lower surface (fields below a levee): level from here
@@ -898,17 +923,29 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // Before any ground return of the column the profile's gradient is only the start's
       // guess: resuming on it needs the level-2 surface not to disagree (a car roof seen
       // past a car side next to the sensor, in a jam), or ground rising over the sensor.
-      const bool on_guess = profile_size_ > 1 || !(std::abs(q.level2_h) > p_.single_rise_m) ||
-                            rises_over_its_ray(k, end, faces_only);
-      const bool resumes = blocked && (std::abs(step - gradient) <= p_.resume_gradient_change
-                                           ? on_guess
-                                           : resumes_bent(k, step, 0.5f * (last_r + r) - gradient_r));
-      accept = std::abs(step) <= p_.max_gradient &&
+      const auto takes = [&] {
+        const bool on_guess = profile_size_ > 1 || !(std::abs(q.level2_h) > p_.single_rise_m) ||
+                              rises_over_its_ray(k, end, faces_only);
+        const bool resumes =
+            blocked && (std::abs(step - gradient) <= p_.resume_gradient_change
+                            ? on_guess
+                            : resumes_bent(k, step, 0.5f * (last_r + r) - gradient_r));
+        return std::abs(step) <= p_.max_gradient &&
                (over <= rise || resumes || (!blocked && climbs_on_level2(k, end, step)));
+      };
+      accept = takes();
+      if (!accept && blocked && faces_only && z <= p_.sensor_z) {
+        level_runs_allowed_ = true;
+        level_run = takes();
+        level_runs_allowed_ = false;
+      }
       next_gradient = std::clamp(step, gradient - p_.gradient_step, gradient + p_.gradient_step);
     }
     // Past an obstacle, a return on a level-1 plane that explains its cell is ground too.
     if (!accept && blocked && std::abs(plane_height[q.index]) <= p_.plane_band_m) accept = true;
+    // Else, past faces alone and under the sensor, level ground running on past the face
+    // (rises_on_over_sensor), which its ring must then confirm (drop_short_level_runs).
+    if (!accept && level_run) accept = true, q.level_run = 1;
     const bool refused_here = !accept;
     if (accept && under_a_ray(r, z, q.ring)) accept = false;
     if (!accept) {

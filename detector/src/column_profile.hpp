@@ -65,6 +65,10 @@ struct ProfileParams {
   // return to return rising less than this (rises_on_over_sensor). (At shoulder_gradient,
   // car roofs rising 0.07-0.08 from one to the next past a car's side, jam_s704.)
   float level_run_gradient = 0.06f;
+  // ... on a ring run longer than this (drop_short_level_runs). (At silhouette_max_m, the
+  // street between cars parked beside a ramp was lost: garage_s604 20 Hz 0.9813 -> 0.9782;
+  // roofs past a car's side in a jam ran 0.5-3 m along their ring.)
+  float level_run_min_m = 3.f;
   // Not under an overhang: the column's next (higher) ring met something more than this
   // nearer and over the return's ray there (a tree crown on a bank's top met from below),
   // or a later ring met something that much nearer, over the ray and level with the
@@ -176,6 +180,8 @@ class ColumnProfiles {
     std::uint8_t kinked = 0;
     // Taken as ground past an obstacle (an obstacle return since the last ground return).
     std::uint8_t resumed = 0;
+    // Taken only as level ground running on past a face (rises_on_over_sensor).
+    std::uint8_t level_run = 0;
     // Level with the start, no obstacle before it in the column (the vehicle's ground).
     std::uint8_t vehicle_ground = 0;
     // ... and the cloud index of the column's next ground return when that goes on level
@@ -211,6 +217,7 @@ class ColumnProfiles {
   void check_single_rises(std::size_t begin, std::size_t end);
   void find_ring_runs(const Cloud& cloud, std::size_t strongest_end);
   void remove_silhouettes(const Cloud& cloud);
+  void drop_short_level_runs(const Cloud& cloud);
   void fill_shadows(const Cloud& cloud, std::size_t begin, std::size_t end,
                     std::vector<std::uint8_t>& ground) const;
   void fill_between(const Cloud& cloud, std::size_t a, std::size_t b,
@@ -247,6 +254,8 @@ class ColumnProfiles {
   // The walked column's last steep obstacle return since its last ground return (face_r_ < 0:
   // none): a return on the top of its wall still counts as that face (walk_column).
   float face_r_ = -1.f, face_z_ = 0.f;
+  // Whether rises_on_over_sensor may take level ground running on (walk_column's second try).
+  bool level_runs_allowed_ = false;
   // The ground returns walked in the current column (the start under the sensor first).
   std::array<float, 2 * kLasers + 1> profile_r_{}, profile_z_{};
   std::size_t profile_size_ = 0;
