@@ -7,8 +7,9 @@
 #
 # Writes DIR/tune (seeds 1..N: the seeds the detector was tuned on), DIR/held_out (seeds
 # 101..100+N: held out when made; some of their captures were examined since) and
-# DIR/unseen (seeds 601..600+N: only ever measured, never examined to change the detector;
-# when one of its captures is, move the first seed on and say so in docs/detector.md).
+# DIR/unseen (seeds 1101..1100+N: only ever measured, never examined to change the detector;
+# when one of its captures is, move the first seed on and say so in docs/detector.md; it was
+# 601 until session 33 examined jam_s604, and seeds 701-1005 were examined as scratch sets).
 # Default DIR build/eval-set, N = 5 seeds, 4 frames per capture. With --table, prints
 # docs/accuracy.md (vlpground_accuracy_table over the three sets, every capture in pcaps/
 # and ../shared/data/sim when present) to stdout.
@@ -64,7 +65,7 @@ make_half() {
 
 make_half "${out}/tune" 1
 make_half "${out}/held_out" 101
-make_half "${out}/unseen" 601
+make_half "${out}/unseen" 1101
 echo "make_eval_set.sh: ${out}/tune, ${out}/held_out and ${out}/unseen ready" >&2
 
 if [[ ${table} -eq 1 ]]; then
