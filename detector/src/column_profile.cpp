@@ -114,11 +114,8 @@ bool ColumnProfiles::continuous_across_edge(const Cloud& cloud, Index end, Index
 // (jam). Dropped, such a return is refused past an obstacle in front, as the walk would
 // have refused it: fill_shadows may still take it from the ring.
 void ColumnProfiles::drop_short_level_runs(const Cloud& cloud) {
-  const float min_sq = p_.level_run_min_m * p_.level_run_min_m;
   for (const RingRun& run : runs_) {
-    if (run.wrap != kNoRun) continue;
-    const float dx = cloud.x[run.b] - cloud.x[run.a], dy = cloud.y[run.b] - cloud.y[run.a];
-    if (dx * dx + dy * dy > min_sq) continue;
+    if (run.wrap != kNoRun || apart(cloud, run.a, run.b, p_.level_run_min_m)) continue;
     for (Index i = run.a; i <= run.b; ++i) {
       ColumnPoint& q = points_[position_[i]];
       if (q.level_run == 0) continue;
@@ -610,11 +607,13 @@ bool ColumnProfiles::bends_on(Index k, Index end, float step, float bend) const 
 // street seen over a ramp's retaining wall from inside the ramp, the wall hiding every
 // lower ring (garage at 5 Hz); not a facade seen past a car and refused returns that climb
 // to it (jam_s3). A face's top counts as that face (on_wall_top). A return under the sensor
-// is taken only as the near end of level ground rising on over it (rises_on_over_sensor).
-bool ColumnProfiles::rises_over_its_ray(Index k, Index end, bool past_faces_only) const {
+// is taken only as the near end of level ground rising on over it, or running on from under
+// `level_run_top` (rises_on_over_sensor).
+bool ColumnProfiles::rises_over_its_ray(Index k, Index end, bool past_faces_only,
+                                        float level_run_top) const {
   const ColumnPoint& q = points_[k];
   if (p_.sensor_z <= 0.f) return false;
-  if (q.z <= p_.sensor_z) return past_faces_only && rises_on_over_sensor(k, end);
+  if (q.z <= p_.sensor_z) return past_faces_only && rises_on_over_sensor(k, end, level_run_top);
   const float ray = (q.z - p_.sensor_z) / q.r;
   float from_r = q.r, from_z = q.z;
   int seen = 0;
@@ -648,9 +647,9 @@ bool ColumnProfiles::on_wall_top(float r, float z, float face_r, float face_z) c
 // part lower than the sensor (garage), where level 2 follows the ramp and has no ground of
 // its own; not a car's roof seen over a van's side on a measured road, with a truck's box
 // or a facade's upper floors beyond it (jam).
-// On the walk's second try (level_runs_allowed_, when nothing else took k), where k lies
-// under the top of the face in front (the last face's highest return), the level ground
-// may also run on under the sensor (each return on rising less than
+// Where k lies under `level_run_top` (the walk's second try, when nothing else took k,
+// passes the top of the face in front: the last face's highest return; by default no
+// height is), the level ground may also run on under the sensor (each return on rising less than
 // level_run_gradient from the one before, with the same bend and overhang checks) to the
 // column's last return, or to one over the sensor that rises over its ray or is the last:
 // the street seen over a ramp's parapet from a vehicle pitched on the ramp or tilted on its
@@ -658,9 +657,9 @@ bool ColumnProfiles::on_wall_top(float r, float z, float face_r, float face_z) c
 // A roof past a car's side lies level with the side's highest return or over it (the ray
 // that passed over the side falls to it), and two roofs rise more steeply (jam_s604, s704);
 // level roofs that pass these are short along their ring (drop_short_level_runs).
-bool ColumnProfiles::rises_on_over_sensor(Index k, Index end) const {
+bool ColumnProfiles::rises_on_over_sensor(Index k, Index end, float level_run_top) const {
   if (raised_over_level2(k, p_.single_rise_m) && level2_.measured(points_[k].index)) return false;
-  const bool under_face_top = level_runs_allowed_ && face_r_ >= 0.f && points_[k].z < face_z_;
+  const bool under_face_top = points_[k].z < level_run_top;
   Index from = k;
   Index j = next_advancing(k, end);
   if (j == end) return false;
@@ -766,8 +765,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
   bool faces_only = true;  // every obstacle return since the last ground return was steep
   // The last steep obstacle return (r < 0: none since the last ground return): a return on
   // the top of its wall still counts as that face.
-  face_r_ = -1.f;
-  face_z_ = 0.f;
+  float face_r = -1.f, face_z = 0.f;
   int last_ring = -1;    // ring of the last ground return (-1: the start)
   // The farthest return of the rings below the current one, and of the current ring.
   float lower_far_r = 0.f, lower_far_z = 0.f, ring_far_r = 0.f, ring_far_z = 0.f;
@@ -789,12 +787,12 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
   };
   // Resuming on a gradient that is only the start's guess, which terrain curvature may have
   // bent over `drift` metres since the point where it holds (resume_curvature_per_m).
-  auto resumes_bent = [&](Index k, float step, float drift) {
+  auto resumes_bent = [&](Index k, float step, float drift, float level_run_top) {
     const float bend = step - gradient;
     return profile_size_ <= 2 &&
            std::abs(bend) <= p_.resume_gradient_change + p_.resume_curvature_per_m * std::max(0.f, drift) &&
            ((std::abs(points_[k].level2_h) <= p_.single_rise_m && bends_on(k, end, step, bend)) ||
-            rises_over_its_ray(k, end, faces_only));
+            rises_over_its_ray(k, end, faces_only, level_run_top));
   };
   profile_size_ = 0;
   add_to_profile(last_r, last_z);
@@ -862,7 +860,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // The foot of a wall off the profile's band (a post on a crowned road's shoulder): the
       // ring may take it where it runs on level with its ground on both sides (fill_shadows).
       if (q.ground == 0 && !vetoed) q.shadowed = kFoot;
-      if (q.ground == 0) face_r_ = r, face_z_ = z;
+      if (q.ground == 0) face_r = r, face_z = z;
       blocked = true;
       obstacle_seen = true;
       continue;
@@ -923,21 +921,19 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // Before any ground return of the column the profile's gradient is only the start's
       // guess: resuming on it needs the level-2 surface not to disagree (a car roof seen
       // past a car side next to the sensor, in a jam), or ground rising over the sensor.
-      const auto takes = [&] {
+      const auto takes = [&](float level_run_top) {
         const bool on_guess = profile_size_ > 1 || !(std::abs(q.level2_h) > p_.single_rise_m) ||
-                              rises_over_its_ray(k, end, faces_only);
+                              rises_over_its_ray(k, end, faces_only, level_run_top);
         const bool resumes =
             blocked && (std::abs(step - gradient) <= p_.resume_gradient_change
                             ? on_guess
-                            : resumes_bent(k, step, 0.5f * (last_r + r) - gradient_r));
+                            : resumes_bent(k, step, 0.5f * (last_r + r) - gradient_r, level_run_top));
         return std::abs(step) <= p_.max_gradient &&
                (over <= rise || resumes || (!blocked && climbs_on_level2(k, end, step)));
       };
-      accept = takes();
-      if (!accept && blocked && faces_only && z <= p_.sensor_z) {
-        level_runs_allowed_ = true;
-        level_run = takes();
-        level_runs_allowed_ = false;
+      accept = takes(kNoLevelRun);
+      if (!accept && blocked && faces_only && z <= p_.sensor_z && face_r >= 0.f) {
+        level_run = takes(face_z);
       }
       next_gradient = std::clamp(step, gradient - p_.gradient_step, gradient + p_.gradient_step);
     }
@@ -957,7 +953,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
                        : 0;
       blocked = true;
       obstacle_seen = true;
-      faces_only = faces_only && on_wall_top(r, z, face_r_, face_z_);
+      faces_only = faces_only && on_wall_top(r, z, face_r, face_z);
       continue;
     }
     q.ground = 1;
@@ -990,7 +986,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     gradient_r = next_gradient_r;
     blocked = false;
     faces_only = true;
-    face_r_ = -1.f;
+    face_r = -1.f;
     last_ring = q.ring;
   }
 }

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "method.hpp"
@@ -197,8 +198,11 @@ class ColumnProfiles {
                    const std::vector<float>& plane_height, std::vector<float>& height);
   [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
   [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
-  [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end, bool past_faces_only) const;
-  [[nodiscard]] bool rises_on_over_sensor(std::size_t k, std::size_t end) const;
+  // No level ground running on past a face (rises_on_over_sensor's level_run_top).
+  static constexpr float kNoLevelRun = -std::numeric_limits<float>::infinity();
+  [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end, bool past_faces_only,
+                                        float level_run_top = kNoLevelRun) const;
+  [[nodiscard]] bool rises_on_over_sensor(std::size_t k, std::size_t end, float level_run_top) const;
   [[nodiscard]] std::size_t next_advancing(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool on_wall_top(float r, float z, float face_r, float face_z) const;
   [[nodiscard]] bool climbs_on_level2(std::size_t k, std::size_t end, float step) const;
@@ -251,11 +255,6 @@ class ColumnProfiles {
   const std::uint8_t* steep_ = nullptr;  // the frame's steep flags, by cloud point (label)
   Level2Coverage level2_;  // where the level-2 surface has ground of its own (label)
   float start_z_ = 0.f;  // the ground under the vehicle, where every column starts
-  // The walked column's last steep obstacle return since its last ground return (face_r_ < 0:
-  // none): a return on the top of its wall still counts as that face (walk_column).
-  float face_r_ = -1.f, face_z_ = 0.f;
-  // Whether rises_on_over_sensor may take level ground running on (walk_column's second try).
-  bool level_runs_allowed_ = false;
   // The ground returns walked in the current column (the start under the sensor first).
   std::array<float, 2 * kLasers + 1> profile_r_{}, profile_z_{};
   std::size_t profile_size_ = 0;
