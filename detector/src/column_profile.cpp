@@ -1120,6 +1120,14 @@ void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
   }
 }
 
+// Whether any return of [first, last] (ground or not) lies on a steep surface.
+bool ColumnProfiles::any_steep(Index first, Index last) const {
+  for (Index g = first; g <= last; ++g) {
+    if (points_[g].steep != 0) return true;
+  }
+  return false;
+}
+
 // Whether the raised group [first, last] that ends its column (no ground return after it)
 // is an object's top the walk took, not confirmed by the column before it either:
 // - it resumed past an obstacle, every return more than half single_rise_m over the start
@@ -1128,7 +1136,15 @@ void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
 // - it holds the column's first ground returns (`column_first`), met by at most two rings
 //   before any return resumed past an obstacle, every return more than drop_m over the
 //   start (a barrier's top met by a Puck Hi-Res's two lowest rings, whose ground lies
-//   beyond it; three rings or more climbing are a bank's face);
+//   beyond it; three rings or more climbing are a bank's face), or
+// - it starts where the profile kinked up from the column's ground (ColumnPoint::kinked),
+//   that first return already more than single_rise_m over the level-2 surface, met by at
+//   most two rings, every return more than half single_rise_m over the start and none of
+//   the group's returns steep: fence lines met one per ring at 17 and 21 m, each taken as a
+//   rise from the last, whose rings go on over them to a facade (fences_s704). A bank's face
+//   climbed by three rings or more, or with steep returns, is a surface; terrain bending up
+//   far out, where the level-2 surface lags, is under it by less at its first return
+//   (bank_s804: the far side of a dip);
 // and the level-2 surface lies more than single_rise_m under one of its returns where that
 // surface was fitted to ground of its own (Level2Coverage: not inherited or extrapolated),
 // every return under the sensor (a top met from above lies under the sensor; ground that
@@ -1136,10 +1152,14 @@ void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
 // ramp's parapet, is met by rising rays).
 bool ColumnProfiles::top_at_column_end(Index first, Index last, bool column_first) const {
   const bool resumed = points_[first].resumed != 0;
-  if (!(resumed || column_first) || p_.sensor_z <= 0.f) return false;
-  const float over_start = resumed ? 0.5f * p_.single_rise_m : p_.drop_m;
+  const bool kinked = points_[first].kinked != 0 && !column_first && !resumed &&
+                     raised_over_level2(first, p_.single_rise_m);
+  if (!(resumed || column_first || kinked) || p_.sensor_z <= 0.f) return false;
+  if (kinked && any_steep(first, last)) return false;
+  const float over_start = resumed || kinked ? 0.5f * p_.single_rise_m : p_.drop_m;
   bool high = false;
-  int first_returns = 0;  // the column's first ground returns (none resumed past an obstacle)
+  // The column's first ground returns, or the kinked rise's (none resumed past an obstacle).
+  int first_returns = 0;
   bool before_resumed = true;
   for (Index g = first; g <= last; ++g) {
     if (!is_ground_neighbour(g)) continue;

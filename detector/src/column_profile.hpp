@@ -218,6 +218,7 @@ class ColumnProfiles {
   void drop_refuted_rises(const Cloud& cloud);
   void drop_raised_groups(std::size_t begin, std::size_t end);
   [[nodiscard]] bool top_at_column_end(std::size_t first, std::size_t last, bool column_first) const;
+  [[nodiscard]] bool any_steep(std::size_t first, std::size_t last) const;
   void check_single_rises(std::size_t begin, std::size_t end);
   void find_ring_runs(const Cloud& cloud, std::size_t strongest_end);
   void remove_silhouettes(const Cloud& cloud);

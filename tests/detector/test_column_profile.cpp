@@ -799,6 +799,48 @@ TEST_CASE("column profiles: a column's first two returns on a top, nothing after
   CHECK(kept({{7.7f, 0.3f}, {7.9f, 0.4f}}) == std::vector<int>{1, 1});
 }
 
+TEST_CASE("column profiles: a kinked rise of two rings ending the column is an object's top",
+          "[detector][profiles]") {
+  // Sim fences_s704 (frame 4, column 700): rings 0-4 on level ground out to 15.4 m, ring 5
+  // on a fence 17.1 m out, ring 6 on another 20.7 m out, each taken as a rise from the last
+  // (ring 5 kinks the profile up, ring 6 vouches for it close beyond), rings 7-15 on a
+  // facade 39.7 m out. The level-2 surface lies at z = 0 and has ground of its own.
+  const auto kept = [](std::vector<std::pair<float, float>> rise, bool facade = true) {
+    Scan s;
+    const float ground[] = {7.04f, 8.17f, 9.68f, 11.88f, 15.35f};
+    int ring = 0;
+    for (const float r : ground) add(s, ring++, 0, r, 0.f, 1);
+    for (const auto& [r, z] : rise) add(s, ring++, 0, r, z, 2);
+    for (; facade && ring < 16; ++ring) add(s, ring, 0, 39.65f, 1.19f + 1.39f * static_cast<float>(ring - 7), 2);
+    const Labels out = label(s, s.cloud.z, {}, true);  // heights over the surface at z = 0
+    for (int g = 0; g < 5; ++g) REQUIRE(out.ground[static_cast<std::size_t>(g)] == 1);
+    const auto first = out.ground.begin() + 5;
+    return std::vector<int>(first, first + static_cast<std::ptrdiff_t>(rise.size()));
+  };
+  CHECK(kept({{17.06f, 0.39f}, {20.73f, 0.8f}}) == std::vector<int>{0, 0});
+  CHECK(kept({{17.06f, 0.39f}, {20.73f, 0.8f}}, false) == std::vector<int>{0, 0});
+  // The kink's first return at most single_rise_m over the level-2 surface: terrain bending
+  // up where the cells lag it (bank_s804, the far side of a dip): kept.
+  CHECK(kept({{17.06f, 0.25f}, {20.73f, 0.7f}}) == std::vector<int>{1, 1});
+  // Three rings climbing on from the kink: a bank's face (the cells lag it): kept.
+  CHECK(kept({{17.06f, 0.39f}, {20.73f, 0.8f}, {24.f, 1.2f}}) == std::vector<int>{1, 1, 1});
+}
+
+TEST_CASE("column profiles: a kinked rise with a steep step in it is a bank's face",
+          "[detector][profiles]") {
+  // Sim bank_s4 tilted (frame 2, column 1352): the road, then a bank's face whose rings
+  // 3-5 met a steep step (ring 5 a box on it); the level-2 surface lags the face (heights
+  // over it `h`) and has ground of its own. The walk takes rings 0-2, 6 and 7.
+  Scan s;
+  const float r[] = {6.36f, 6.66f, 7.04f, 7.37f, 7.72f, 7.79f, 8.66f, 9.25f};
+  const float z[] = {0.2f, 0.36f, 0.54f, 0.74f, 0.96f, 1.23f, 1.47f, 1.77f};
+  const float h[] = {0.03f, 0.06f, 0.33f, 0.51f, 0.71f, 0.97f, 1.15f, 1.42f};
+  for (int ring = 0; ring < 8; ++ring) add(s, ring, 0, r[ring], z[ring], 1);
+  const Labels out = label(s, std::vector<float>(std::begin(h), std::end(h)), {}, true);
+  CHECK(std::vector<int>{out.ground[2], out.ground[6], out.ground[7]} ==
+        std::vector<int>{1, 1, 1});
+}
+
 TEST_CASE("column profiles: a rise the neighbouring columns saw the ground under is refuted",
           "[detector][profiles]") {
   // Sim fences_s103: ring 0 on the road 8 m out, ring 1 on a low fence 10 m out (0.2 m up),
