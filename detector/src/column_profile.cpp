@@ -58,6 +58,7 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   for (Index c = 0; c < columns; ++c) {
     drop_raised_groups(column_start_[c], column_start_[c + 1]);
     check_single_rises(column_start_[c], column_start_[c + 1]);
+    drop_orphaned_feet(column_start_[c], column_start_[c + 1]);
   }
   // The labels, by cloud point; arrays in locals (a byte store may alias any member).
   const ColumnPoint* const points = points_.data();
@@ -1114,7 +1115,9 @@ void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
       }
     }
     for (Index g = k; g <= last && drop; ++g) {
-      if (is_ground_neighbour(g)) points_[g].ground = 0;
+      if (!is_ground_neighbour(g)) continue;
+      points_[g].ground = 0;
+      points_[g].dropped = 1;
     }
     k = after;
   }
@@ -1237,6 +1240,24 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
       }
     }
     previous = k;
+  }
+}
+
+// A steep return the walk took as a wall's foot on the profile through a ground return that
+// was then dropped as a raised group (drop_raised_groups: a barrier's top met by ring 0, its
+// face by the rings over it) stood on that object: no ground unless a ground return the
+// column kept lies between them. (Also after a dropped single rise it cost more than it
+// bought: a valley's side under a lagging level 2, hills_s702.)
+void ColumnProfiles::drop_orphaned_feet(Index begin, Index end) {
+  bool orphaned = false;  // a ground return dropped since the last one kept
+  for (Index k = begin; k < end; ++k) {
+    ColumnPoint& q = points_[k];
+    if (q.steep == 0) {
+      if (q.ground != 0) orphaned = false;
+      orphaned = orphaned || q.dropped != 0;
+    } else if (orphaned) {
+      q.ground = 0;
+    }
   }
 }
 

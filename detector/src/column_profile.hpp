@@ -183,6 +183,8 @@ class ColumnProfiles {
     std::uint8_t resumed = 0;
     // Taken only as level ground running on past a face (rises_on_over_sensor).
     std::uint8_t level_run = 0;
+    // Taken by the walk, then dropped as a raised group (drop_raised_groups).
+    std::uint8_t dropped = 0;
     // Level with the start, no obstacle before it in the column (the vehicle's ground).
     std::uint8_t vehicle_ground = 0;
     // ... and the cloud index of the column's next ground return when that goes on level
@@ -219,6 +221,7 @@ class ColumnProfiles {
   void drop_raised_groups(std::size_t begin, std::size_t end);
   [[nodiscard]] bool top_at_column_end(std::size_t first, std::size_t last, bool column_first) const;
   [[nodiscard]] bool any_steep(std::size_t first, std::size_t last) const;
+  void drop_orphaned_feet(std::size_t begin, std::size_t end);
   void check_single_rises(std::size_t begin, std::size_t end);
   void find_ring_runs(const Cloud& cloud, std::size_t strongest_end);
   void remove_silhouettes(const Cloud& cloud);

@@ -841,6 +841,46 @@ TEST_CASE("column profiles: a kinked rise with a steep step in it is a bank's fa
         std::vector<int>{1, 1, 1});
 }
 
+TEST_CASE("column profiles: a wall's foot on a dropped object's top is no ground",
+          "[detector][profiles]") {
+  // One column (range, z, height over the level-2 surface, which has ground of its own),
+  // labelled; returns its labels.
+  struct Return {
+    float r, z, h;
+  };
+  const auto labels = [](const std::vector<Return>& column) {
+    Scan s;
+    std::vector<float> level2;
+    for (std::size_t ring = 0; ring < column.size(); ++ring) {
+      add(s, static_cast<int>(ring), 0, column[ring].r, column[ring].z, 1);
+      level2.push_back(column[ring].h);
+    }
+    const Labels out = label(s, level2, {}, true);
+    return std::vector<int>(out.ground.begin(), out.ground.end());
+  };
+  // Sim fences_s1003 (frame 0, column 100): ring 0 on a barrier's top 4.5 m out, taken as a
+  // kink and later dropped as a group standing out; rings 1-3 on a face 4.9 m out, ring 1
+  // taken as the face's foot on the profile through ring 0; then the road from 15 m.
+  const std::vector<int> fence = labels({{4.54f, 0.716f, 0.79f},
+                                          {4.91f, 0.797f, 0.86f},
+                                          {4.91f, 0.976f, 1.04f},
+                                          {4.91f, 1.15f, 1.22f},
+                                          {15.41f, 0.034f, -0.01f},
+                                          {21.17f, 0.073f, -0.03f},
+                                          {33.05f, 0.192f, -0.04f}});
+  CHECK(fence == std::vector<int>{0, 0, 0, 0, 1, 1, 1});
+  // The same column with a wall 21 m out, whose foot the walk took on the road's profile
+  // from 15 m: a ground return kept between, it stays ground.
+  const std::vector<int> wall = labels({{4.54f, 0.716f, 0.79f},
+                                         {4.91f, 0.797f, 0.86f},
+                                         {4.91f, 0.976f, 1.04f},
+                                         {4.91f, 1.15f, 1.22f},
+                                         {15.41f, 0.034f, -0.01f},
+                                         {21.17f, 0.073f, -0.03f},
+                                         {21.2f, 0.95f, 0.85f}});
+  CHECK(wall == std::vector<int>{0, 0, 0, 0, 1, 1, 0});
+}
+
 TEST_CASE("column profiles: a rise the neighbouring columns saw the ground under is refuted",
           "[detector][profiles]") {
   // Sim fences_s103: ring 0 on the road 8 m out, ring 1 on a low fence 10 m out (0.2 m up),
