@@ -56,9 +56,9 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   ground.resize(cloud.size());
   shadowed_.resize(cloud.size());
   for (Index c = 0; c < columns; ++c) {
-    drop_raised_groups(column_start_[c], column_start_[c + 1]);
+    const bool dropped_group = drop_raised_groups(column_start_[c], column_start_[c + 1]);
     check_single_rises(column_start_[c], column_start_[c + 1]);
-    drop_orphaned_feet(column_start_[c], column_start_[c + 1]);
+    if (dropped_group) drop_orphaned_feet(column_start_[c], column_start_[c + 1]);
   }
   // The labels, by cloud point; arrays in locals (a byte store may alias any member).
   const ColumnPoint* const points = points_.data();
@@ -1089,7 +1089,8 @@ void ColumnProfiles::drop_refuted_rises(const Cloud& cloud) {
 //   ground both before it (or the start) and after it (a car roof, a fence top seen by two
 //   rings), or
 // - it ends the column as an object's top (top_at_column_end).
-void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
+bool ColumnProfiles::drop_raised_groups(Index begin, Index end) {
+  bool dropped_any = false;
   auto raised = [&](Index k) { return raised_over_level2(k, 0.5f * p_.single_rise_m); };
   float before_z = start_z_;
   bool ground_before = false;
@@ -1118,9 +1119,11 @@ void ColumnProfiles::drop_raised_groups(Index begin, Index end) {
       if (!is_ground_neighbour(g)) continue;
       points_[g].ground = 0;
       points_[g].dropped = 1;
+      dropped_any = true;
     }
     k = after;
   }
+  return dropped_any;
 }
 
 // Whether any return of [first, last] (ground or not) lies on a steep surface.

@@ -218,7 +218,8 @@ class ColumnProfiles {
   [[nodiscard]] bool rise_refuted(const Cloud& cloud, std::size_t c, std::size_t a,
                                   std::size_t b) const;
   void drop_refuted_rises(const Cloud& cloud);
-  void drop_raised_groups(std::size_t begin, std::size_t end);
+  // Whether it dropped any group.
+  bool drop_raised_groups(std::size_t begin, std::size_t end);
   [[nodiscard]] bool top_at_column_end(std::size_t first, std::size_t last, bool column_first) const;
   [[nodiscard]] bool any_steep(std::size_t first, std::size_t last) const;
   void drop_orphaned_feet(std::size_t begin, std::size_t end);
