@@ -675,9 +675,10 @@ bool ColumnProfiles::rises_on_over_sensor(Index k, Index end, float level_run_to
       const float bend = (points_[beyond].z - on.z) / (points_[beyond].r - on.r) - gradient;
       if (std::abs(bend) > p_.gradient_step) return false;
     }
+    // Over the sensor (a run from under the face's top may also end at the column's last
+    // return; the loop gets past k only under it).
     if (on.z > p_.sensor_z) {
-      if (from == k && rises_over_its_ray(j, end, true)) return true;
-      return under_face_top && (beyond == end || rises_over_its_ray(j, end, true));
+      return (under_face_top && beyond == end) || rises_over_its_ray(j, end, true);
     }
     if (!under_face_top || gradient >= p_.level_run_gradient) return false;
     if (beyond == end) return true;
