@@ -566,6 +566,12 @@ inline float ColumnProfiles::profile_at(float r) const {
   return profile_z_[k - 1] + t * (profile_z_[k] - profile_z_[k - 1]);
 }
 
+// Whether the ray of `ring` in `column` returned from horizontal distance r or farther
+// (no more than reach_slack_m short of it).
+inline bool ColumnProfiles::ray_returned_past(Index column, int ring, float r) const {
+  return ring_reach_[column * kLasers + static_cast<Index>(ring)] > r - p_.reach_slack_m;
+}
+
 // Whether the ray of `ring` in `column` reached horizontal distance r: its return lies no
 // more than reach_slack_m short of r, or it has none (the sky) and neither neighbour
 // column has one short of r (else it may have dropped out).
@@ -573,8 +579,7 @@ inline bool ColumnProfiles::ray_reaches(Index column, int ring, float r) const {
   // The ring's farthest return in column c (0: none).
   const auto far = [&](Index c) { return ring_reach_[c * kLasers + static_cast<Index>(ring)]; };
   const float reach = r - p_.reach_slack_m;
-  const float here = far(column);
-  if (here > 0.f) return here > reach;
+  if (far(column) > 0.f) return ray_returned_past(column, ring, r);
   const Index columns = column_start_.size() - 1;
   const auto short_of = [&](Index c) {
     const float farthest = far(c);
@@ -781,9 +786,15 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       const float ray_z = p_.sensor_z + (lower_far_z - p_.sensor_z) * (at / lower_far_r);
       if (ray_z < z - p_.under_ray_m) return true;
     }
-    if (z <= last_z + p_.sky_climb_m) return false;
+    // A ring between the last ground return and this one (every lower ring before the
+    // column's first) whose return lies at this distance or farther passed under this
+    // return; one that went to the sky counts only for a climb (a sensor drops a ring's
+    // returns on a dark road over whole stretches of columns: vlp16_outdoor_600rpm).
+    const bool climbs = z > last_z + p_.sky_climb_m;
     for (int between = last_ring + 1; between < ring; ++between) {
-      if (ray_reaches(column, between, r)) return true;
+      if (climbs ? ray_reaches(column, between, r) : ray_returned_past(column, between, r)) {
+        return true;
+      }
     }
     return false;
   };

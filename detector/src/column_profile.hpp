@@ -198,6 +198,7 @@ class ColumnProfiles {
   void note_ring_reach(std::size_t c);
   void walk_column(std::size_t column, std::size_t begin, std::size_t end,
                    const std::vector<float>& plane_height, std::vector<float>& height);
+  [[nodiscard]] bool ray_returned_past(std::size_t column, int ring, float r) const;
   [[nodiscard]] bool ray_reaches(std::size_t column, int ring, float r) const;
   [[nodiscard]] bool bends_on(std::size_t k, std::size_t end, float step, float bend) const;
   // No level ground running on past a face (rises_on_over_sensor's level_run_top).

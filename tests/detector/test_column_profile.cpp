@@ -431,6 +431,56 @@ TEST_CASE("column profiles: no climb past a ring that went to the sky",
   CHECK(crown_past_sky(true) == 1);
 }
 
+TEST_CASE("column profiles: a return a ring between it and the last ground returned past is none",
+          "[detector][profiles]") {
+  // One column (range, z, height over the level-2 surface, which has ground of its own,
+  // and over a level-1 plane explaining the cell when `on_plane`), labelled; returns its
+  // labels.
+  struct Return {
+    int ring;
+    float r, z, h;
+  };
+  const auto labels = [](const std::vector<Return>& column, bool on_plane = false) {
+    Scan s;
+    std::vector<float> level2;
+    for (const Return& q : column) {
+      add(s, q.ring, 0, q.r, q.z, 1);
+      level2.push_back(q.h);
+    }
+    std::vector<float> plane;
+    if (on_plane) plane = level2;
+    const Labels out = label(s, level2, plane, true);
+    return std::vector<int>(out.ground.begin(), out.ground.end());
+  };
+  // Sim fences_s1003 (frame 0, column 10): ring 0 on a barrier's top 4.6 m out (taken as a
+  // kink, later dropped), rings 1-4 on a face 5.5 m out. Ring 2 lies on the profile through
+  // ring 0 (the face's foot), but ring 1 returned from its distance, 0.199 m under it.
+  CHECK(labels({{0, 4.6f, 0.701f, 0.79f},
+                {1, 5.48f, 0.667f, 0.75f},
+                {2, 5.48f, 0.866f, 0.95f},
+                {3, 5.48f, 1.06f, 1.15f},
+                {4, 5.46f, 1.256f, 1.34f},
+                {5, 16.76f, 0.459f, 0.02f},
+                {6, 35.53f, 0.062f, 0.f}}) == std::vector<int>{0, 0, 0, 0, 0, 1, 1});
+  // Sim garage_s804_tilt (frame 0, column 959): a wall 5.2 m out before any ground, on a
+  // level-1 plane; ring 1 was its foot from the start (rule 1's plane clause), but ring 0
+  // returned from its distance, 0.198 m under it.
+  CHECK(labels({{0, 5.24f, 0.138f, -0.12f},
+                {1, 5.24f, 0.336f, 0.03f},
+                {2, 5.2f, 0.538f, 0.28f},
+                {3, 5.22f, 0.722f, 0.46f},
+                {4, 5.2f, 0.913f, 0.65f},
+                {5, 16.53f, 0.782f, 0.f},
+                {6, 25.1f, 1.142f, 0.f}},
+               true) == std::vector<int>{0, 0, 0, 0, 0, 1, 1});
+  // A level road whose ring 2 dropped out (as a real sensor does on dark asphalt over whole
+  // stretches of columns: vlp16_outdoor_600rpm): a ring gone to the sky only vetoes a climb.
+  CHECK(labels({{0, 6.f, 0.f, 0.f},
+                {1, 7.f, 0.f, 0.f},
+                {3, 10.5f, 0.f, 0.f},
+                {4, 13.5f, 0.f, 0.f}}) == std::vector<int>{1, 1, 1, 1});
+}
+
 TEST_CASE("column profiles: a ring's ground across the shadow of an obstacle is ground",
           "[detector][profiles]") {
   // Past the box ring 4 is 1.6 m up at 20 m: over the allowance past an obstacle and too
