@@ -860,14 +860,17 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       const bool guess_off =
           blocked && profile_size_ == 1 && std::abs(q.level2_h) > p_.single_rise_m;
       // (or of a level-1 plane that explains its cell: the foot of a wall on a slope)
-      // (before the column's first ground return the profile is only the start's guess)
+      // (before the column's first ground return the profile is only the start's guess;
+      // but the column's first return over the start's level is no foot: the lowest ring
+      // met a wall over the ground it hides, the plane passing there by chance, garage_s105)
       // Far past the last ground return on a climbing profile, the extrapolation is only a
       // guess too (a shed's wall on a bank top the rings never see, where the bank's slope
       // extrapolated runs into it).
       const bool climb_guessed = gradient * advance > p_.steep_climb_m;
+      const bool start_guessed = profile_size_ == 1 && (k != begin || over <= 0.f);
       q.ground = (std::abs(over) < p_.steep_band_m && !guess_off && !climb_guessed) ||
                  (std::abs(plane_height[q.index]) < p_.steep_band_m &&
-                  (std::abs(over) < p_.plane_foot_m || profile_size_ == 1));
+                  (std::abs(over) < p_.plane_foot_m || start_guessed));
       const bool vetoed = under_a_ray(r, z, q.ring);
       if (q.ground != 0 && vetoed) q.ground = 0;
       // The foot of a wall off the profile's band (a post on a crowned road's shoulder): the

@@ -481,6 +481,57 @@ TEST_CASE("column profiles: a return a ring between it and the last ground retur
                 {4, 13.5f, 0.f, 0.f}}) == std::vector<int>{1, 1, 1, 1});
 }
 
+TEST_CASE("column profiles: a wall met by the column's lowest return over the start is no foot",
+          "[detector][profiles]") {
+  // One column before any ground (ring, range, z, height over the level-2 surface, which
+  // has ground of its own), with a level-1 plane explaining the cell at `on_plane`;
+  // returns its labels.
+  struct Return {
+    int ring;
+    float r, z, h;
+  };
+  const auto labels = [](const std::vector<Return>& column, std::size_t on_plane) {
+    Scan s;
+    std::vector<float> level2, plane;
+    for (const Return& q : column) {
+      add(s, q.ring, 0, q.r, q.z, 1);
+      level2.push_back(q.h);
+      plane.push_back(plane.size() == on_plane ? 0.02f : std::nanf(""));
+    }
+    const Labels out = label(s, level2, plane, true);
+    return std::vector<int>(out.ground.begin(), out.ground.end());
+  };
+  // Sim garage_s105 (frame 2, column 259): rings 0-5 on a wall 4.7 m out, ring 0 0.65 m
+  // over the vehicle's ground (0.70 m over the hidden foot) where a level-1 plane passes.
+  CHECK(labels({{0, 4.66f, 0.654f, 0.02f},
+                {1, 4.63f, 0.831f, 0.2f},
+                {2, 4.67f, 0.991f, 0.35f},
+                {3, 4.65f, 1.162f, 0.53f},
+                {4, 4.66f, 1.324f, 0.69f},
+                {5, 4.69f, 1.485f, 0.84f},
+                {7, 9.41f, 1.727f, 0.78f},
+                {8, 9.42f, 2.055f, 1.1f}},
+               0) == std::vector<int>{0, 0, 0, 0, 0, 0, 0, 0});
+  // Sim embankment_s105 (frame 0, column 467): the column's first return under the start,
+  // on a field 2.7 m below the levee, with a post on it: the plane's foot stands.
+  CHECK(labels({{0, 17.31f, -2.735f, 0.f},
+                {1, 17.33f, -2.1f, 0.64f},
+                {2, 23.86f, -2.738f, 0.f}},
+               0)[0] == 1);
+  // Sim garage_s906 (frame 0, column 1471): a ramp's wall 7 m out (rings 0-7), then a
+  // facade 23 m out on the street 2.35 m up: its foot (ring 8) is not the column's first
+  // return.
+  std::vector<Return> ramp;
+  for (int ring = 0; ring < 8; ++ring) {
+    const auto up = static_cast<float>(ring);
+    ramp.push_back({ring, 7.f, 0.092f + 0.248f * up, -0.68f + 0.25f * up});
+  }
+  ramp.push_back({8, 22.78f, 2.349f, 0.f});
+  ramp.push_back({9, 23.3f, 3.171f, 0.77f});
+  ramp.push_back({10, 23.17f, 3.976f, 1.58f});
+  CHECK(labels(ramp, 8) == std::vector<int>{0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0});
+}
+
 TEST_CASE("column profiles: a ring's ground across the shadow of an obstacle is ground",
           "[detector][profiles]") {
   // Past the box ring 4 is 1.6 m up at 20 m: over the allowance past an obstacle and too
