@@ -104,6 +104,24 @@ Labels label(const Scan& s, std::vector<float> level2 = {}, std::vector<float> p
                        std::vector<bool>(s.cloud.size(), measured));
 }
 
+// One column of returns (ring, range, z, height over the level-2 surface, which has ground
+// of its own), with their heights over a level-1 plane (empty: none), labelled.
+struct ColumnReturn {
+  int ring;
+  float r, z, h;
+};
+std::vector<int> label_column(const std::vector<ColumnReturn>& column,
+                              std::vector<float> plane = {}) {
+  Scan s;
+  std::vector<float> level2;
+  for (const ColumnReturn& q : column) {
+    add(s, q.ring, 0, q.r, q.z, 1);
+    level2.push_back(q.h);
+  }
+  const Labels out = label(s, std::move(level2), std::move(plane), true);
+  return {out.ground.begin(), out.ground.end()};
+}
+
 // Ground at 6 m, a car side at 8 m (rings 1-3), then ring 4 at (r, z).
 Scan car_then(float r, float z, int truth) {
   Scan s;
@@ -433,29 +451,10 @@ TEST_CASE("column profiles: no climb past a ring that went to the sky",
 
 TEST_CASE("column profiles: a return a ring between it and the last ground returned past is none",
           "[detector][profiles]") {
-  // One column (range, z, height over the level-2 surface, which has ground of its own,
-  // and over a level-1 plane explaining the cell when `on_plane`), labelled; returns its
-  // labels.
-  struct Return {
-    int ring;
-    float r, z, h;
-  };
-  const auto labels = [](const std::vector<Return>& column, bool on_plane = false) {
-    Scan s;
-    std::vector<float> level2;
-    for (const Return& q : column) {
-      add(s, q.ring, 0, q.r, q.z, 1);
-      level2.push_back(q.h);
-    }
-    std::vector<float> plane;
-    if (on_plane) plane = level2;
-    const Labels out = label(s, level2, plane, true);
-    return std::vector<int>(out.ground.begin(), out.ground.end());
-  };
   // Sim fences_s1003 (frame 0, column 10): ring 0 on a barrier's top 4.6 m out (taken as a
   // kink, later dropped), rings 1-4 on a face 5.5 m out. Ring 2 lies on the profile through
   // ring 0 (the face's foot), but ring 1 returned from its distance, 0.199 m under it.
-  CHECK(labels({{0, 4.6f, 0.701f, 0.79f},
+  CHECK(label_column({{0, 4.6f, 0.701f, 0.79f},
                 {1, 5.48f, 0.667f, 0.75f},
                 {2, 5.48f, 0.866f, 0.95f},
                 {3, 5.48f, 1.06f, 1.15f},
@@ -465,17 +464,16 @@ TEST_CASE("column profiles: a return a ring between it and the last ground retur
   // Sim garage_s804_tilt (frame 0, column 959): a wall 5.2 m out before any ground, on a
   // level-1 plane; ring 1 was its foot from the start (rule 1's plane clause), but ring 0
   // returned from its distance, 0.198 m under it.
-  CHECK(labels({{0, 5.24f, 0.138f, -0.12f},
-                {1, 5.24f, 0.336f, 0.03f},
-                {2, 5.2f, 0.538f, 0.28f},
-                {3, 5.22f, 0.722f, 0.46f},
-                {4, 5.2f, 0.913f, 0.65f},
-                {5, 16.53f, 0.782f, 0.f},
-                {6, 25.1f, 1.142f, 0.f}},
-               true) == std::vector<int>{0, 0, 0, 0, 0, 1, 1});
+  const std::vector<ColumnReturn> wall = {{0, 5.24f, 0.138f, -0.12f}, {1, 5.24f, 0.336f, 0.03f},
+                                         {2, 5.2f, 0.538f, 0.28f},    {3, 5.22f, 0.722f, 0.46f},
+                                         {4, 5.2f, 0.913f, 0.65f},    {5, 16.53f, 0.782f, 0.f},
+                                         {6, 25.1f, 1.142f, 0.f}};
+  std::vector<float> on_plane;  // the level-1 plane where the level-2 surface lies
+  for (const ColumnReturn& q : wall) on_plane.push_back(q.h);
+  CHECK(label_column(wall, on_plane) == std::vector<int>{0, 0, 0, 0, 0, 1, 1});
   // A level road whose ring 2 dropped out (as a real sensor does on dark asphalt over whole
   // stretches of columns: vlp16_outdoor_600rpm): a ring gone to the sky only vetoes a climb.
-  CHECK(labels({{0, 6.f, 0.f, 0.f},
+  CHECK(label_column({{0, 6.f, 0.f, 0.f},
                 {1, 7.f, 0.f, 0.f},
                 {3, 10.5f, 0.f, 0.f},
                 {4, 13.5f, 0.f, 0.f}}) == std::vector<int>{1, 1, 1, 1});
@@ -483,23 +481,12 @@ TEST_CASE("column profiles: a return a ring between it and the last ground retur
 
 TEST_CASE("column profiles: a wall met by the column's lowest return over the start is no foot",
           "[detector][profiles]") {
-  // One column before any ground (ring, range, z, height over the level-2 surface, which
-  // has ground of its own), with a level-1 plane explaining the cell at `on_plane`;
-  // returns its labels.
-  struct Return {
-    int ring;
-    float r, z, h;
-  };
-  const auto labels = [](const std::vector<Return>& column, std::size_t on_plane) {
-    Scan s;
-    std::vector<float> level2, plane;
-    for (const Return& q : column) {
-      add(s, q.ring, 0, q.r, q.z, 1);
-      level2.push_back(q.h);
-      plane.push_back(plane.size() == on_plane ? 0.02f : std::nanf(""));
-    }
-    const Labels out = label(s, level2, plane, true);
-    return std::vector<int>(out.ground.begin(), out.ground.end());
+  // A column before any ground, where a level-1 plane explaining the cell passes through
+  // return `on_plane` alone; its labels.
+  const auto labels = [](const std::vector<ColumnReturn>& column, std::size_t on_plane) {
+    std::vector<float> plane(column.size(), std::nanf(""));
+    plane[on_plane] = 0.02f;
+    return label_column(column, plane);
   };
   // Sim garage_s105 (frame 2, column 259): rings 0-5 on a wall 4.7 m out, ring 0 0.65 m
   // over the vehicle's ground (0.70 m over the hidden foot) where a level-1 plane passes.
@@ -521,7 +508,7 @@ TEST_CASE("column profiles: a wall met by the column's lowest return over the st
   // Sim garage_s906 (frame 0, column 1471): a ramp's wall 7 m out (rings 0-7), then a
   // facade 23 m out on the street 2.35 m up: its foot (ring 8) is not the column's first
   // return.
-  std::vector<Return> ramp;
+  std::vector<ColumnReturn> ramp;
   for (int ring = 0; ring < 8; ++ring) {
     const auto up = static_cast<float>(ring);
     ramp.push_back({ring, 7.f, 0.092f + 0.248f * up, -0.68f + 0.25f * up});
@@ -944,34 +931,19 @@ TEST_CASE("column profiles: a kinked rise with a steep step in it is a bank's fa
 
 TEST_CASE("column profiles: a wall's foot on a dropped object's top is no ground",
           "[detector][profiles]") {
-  // One column (range, z, height over the level-2 surface, which has ground of its own),
-  // labelled; returns its labels.
-  struct Return {
-    float r, z, h;
-  };
-  const auto labels = [](const std::vector<Return>& column) {
-    Scan s;
-    std::vector<float> level2;
-    for (std::size_t ring = 0; ring < column.size(); ++ring) {
-      add(s, static_cast<int>(ring), 0, column[ring].r, column[ring].z, 1);
-      level2.push_back(column[ring].h);
-    }
-    const Labels out = label(s, level2, {}, true);
-    return std::vector<int>(out.ground.begin(), out.ground.end());
-  };
   // Sim fences_s1003 (frame 0, column 100): ring 0 on a barrier's top 4.5 m out, taken as a
   // kink and later dropped as a group standing out; rings 1-3 on a face 4.9 m out, ring 1
   // taken as the face's foot on the profile through ring 0; then the road from 15 m.
-  const std::vector<Return> fence = {{4.54f, 0.716f, 0.79f},  {4.91f, 0.797f, 0.86f},
-                                     {4.91f, 0.976f, 1.04f},  {4.91f, 1.15f, 1.22f},
-                                     {15.41f, 0.034f, -0.01f}, {21.17f, 0.073f, -0.03f},
-                                     {33.05f, 0.192f, -0.04f}};
-  CHECK(labels(fence) == std::vector<int>{0, 0, 0, 0, 1, 1, 1});
+  const std::vector<ColumnReturn> fence = {
+      {0, 4.54f, 0.716f, 0.79f},   {1, 4.91f, 0.797f, 0.86f},   {2, 4.91f, 0.976f, 1.04f},
+      {3, 4.91f, 1.15f, 1.22f},    {4, 15.41f, 0.034f, -0.01f}, {5, 21.17f, 0.073f, -0.03f},
+      {6, 33.05f, 0.192f, -0.04f}};
+  CHECK(label_column(fence) == std::vector<int>{0, 0, 0, 0, 1, 1, 1});
   // The same column with a wall 21 m out, whose foot the walk took on the road's profile
   // from 15 m: a ground return kept between, it stays ground.
-  std::vector<Return> wall = fence;
-  wall.back() = {21.2f, 0.95f, 0.85f};
-  CHECK(labels(wall) == std::vector<int>{0, 0, 0, 0, 1, 1, 0});
+  std::vector<ColumnReturn> wall = fence;
+  wall.back() = {6, 21.2f, 0.95f, 0.85f};
+  CHECK(label_column(wall) == std::vector<int>{0, 0, 0, 0, 1, 1, 0});
 }
 
 TEST_CASE("column profiles: a rise the neighbouring columns saw the ground under is refuted",
