@@ -57,7 +57,7 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   shadowed_.resize(cloud.size());
   for (Index c = 0; c < columns; ++c) {
     const bool dropped_group = drop_raised_groups(column_start_[c], column_start_[c + 1]);
-    check_single_rises(column_start_[c], column_start_[c + 1]);
+    check_single_rises(cloud, column_start_[c], column_start_[c + 1]);
     if (dropped_group) drop_orphaned_feet(column_start_[c], column_start_[c + 1]);
   }
   // The labels, by cloud point; arrays in locals (a byte store may alias any member).
@@ -1194,11 +1194,28 @@ bool ColumnProfiles::top_at_column_end(Index first, Index last, bool column_firs
   return high;
 }
 
+// Whether cloud point i (strongest layer) lies on a ring run (find_ring_runs) at least min_m
+// long, measured along its returns (on across the frame's edge where the run goes on).
+bool ColumnProfiles::on_ring_run_of(const Cloud& cloud, Index i, float min_m) const {
+  const auto after = std::upper_bound(runs_.begin(), runs_.end(), i,
+                                      [](Index p, const RingRun& run) { return p < run.a; });
+  if (after == runs_.begin() || i > (after - 1)->b) return false;
+  float length = 0.f;
+  const auto walk = [&](const RingRun& run) {
+    for (Index k = run.a; k < run.b && length < min_m; ++k) {
+      length += std::hypot(cloud.x[k + 1] - cloud.x[k], cloud.y[k + 1] - cloud.y[k]);
+    }
+  };
+  walk(*(after - 1));
+  if ((after - 1)->wrap != kNoRun) walk(runs_[(after - 1)->wrap]);
+  return length >= min_m;
+}
+
 // A ground return raised over the level-2 surface (by single_rise_m, or by kink_rise_m when
 // it bent the profile up by more than kink_gradient) needs a raised ground neighbour in its
 // column (the ground return before or after it along the profile; a return on a steep
 // surface taken for the foot of a wall does not count).
-void ColumnProfiles::check_single_rises(Index begin, Index end) {
+void ColumnProfiles::check_single_rises(const Cloud& cloud, Index begin, Index end) {
   Index previous = end;  // previous ground return of the column
   for (Index k = begin; k < end; ++k) {
     if (!is_ground_neighbour(k)) continue;
@@ -1249,7 +1266,14 @@ void ColumnProfiles::check_single_rises(Index begin, Index end) {
       // On or under the chord joining the ground returns before and after it, it is no
       // bump in the column (a fence line stands over that chord by its height).
       const bool on_chord = both && over_chord <= 0.5f * p_.single_rise_m;
-      if (!before && !after && !level && !on_chord) {
+      // Over the sensor, where level 2 only extrapolates, a long ring run is the terrain
+      // climbing on (the cells lag it), not an object standing on it.
+      const auto climbing_run = [&] {
+        const ColumnPoint& q = points_[k];
+        return q.z >= p_.sensor_z && !level2_.measured(q.index) &&
+               on_ring_run_of(cloud, q.index, p_.rise_run_min_m);
+      };
+      if (!before && !after && !level && !on_chord && !climbing_run()) {
         points_[k].ground = 0;
         // Under the ground the vehicle stands on, the ring may still take it (fill_shadows):
         // terrain falling away (a levee's side grazed by a ring) runs on along the ring from

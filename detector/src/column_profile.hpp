@@ -91,8 +91,13 @@ struct ProfileParams {
   // ground return before or after it in its column is raised too (a bank rises over
   // several rings; a fence or a box side is one ring line), or when it is at most half of
   // this over the ground return before it or over the chord joining the ground returns
-  // before and after it (then the level-2 surface is what is off).
+  // before and after it (then the level-2 surface is what is off), or when it lies over the
+  // sensor on a ring run at least rise_run_min_m long where the level-2 surface has no
+  // ground of its own (terrain climbing over the sensor, met by one ring far out where the
+  // cells only extrapolate; an object on a bank's top or a tree crown is a shorter run: at
+  // 6 m, bank_s603_tilt took a shed's top; at 12 m, hills_s603 lost most of the gain).
   float single_rise_m = 0.3f;
+  float rise_run_min_m = 10.f;
   // A return that bent the profile's gradient up by more than kink_gradient (a kink: hills
   // bend the profile by a few hundredths per metre) needs only to stand kink_rise_m (the
   // cells' label band) over the level-2 surface to count as a single rise (a low fence line
@@ -224,7 +229,8 @@ class ColumnProfiles {
   [[nodiscard]] bool top_at_column_end(std::size_t first, std::size_t last, bool column_first) const;
   [[nodiscard]] bool any_steep(std::size_t first, std::size_t last) const;
   void drop_orphaned_feet(std::size_t begin, std::size_t end);
-  void check_single_rises(std::size_t begin, std::size_t end);
+  void check_single_rises(const Cloud& cloud, std::size_t begin, std::size_t end);
+  [[nodiscard]] bool on_ring_run_of(const Cloud& cloud, std::size_t i, float min_m) const;
   void find_ring_runs(const Cloud& cloud, std::size_t strongest_end);
   void remove_silhouettes(const Cloud& cloud);
   void drop_short_level_runs(const Cloud& cloud);

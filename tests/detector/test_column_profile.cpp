@@ -519,6 +519,38 @@ TEST_CASE("column profiles: a wall met by the column's lowest return over the st
   CHECK(labels(ramp, 8) == std::vector<int>{0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0});
 }
 
+TEST_CASE("column profiles: a single rise over the sensor on a long ring run is the terrain",
+          "[detector][profiles]") {
+  // Sim hills_s603_20hz (frame 1, column 392): rings 0-7 on a hill rising ahead of the
+  // vehicle, ring 8 (the column's last return) 27.4 m out, 2.24 m up, over the sensor and
+  // 0.49 m over the level-2 surface, which has no ground of its own there (`measured`
+  // false: the cells only extrapolate). The same column repeats over `columns` degrees, so
+  // that ring 8's run along its ring is 0.48 m a column long. Returns whether ring 8 is
+  // ground in the middle column.
+  const auto ring8_ground = [](int columns, float z8, bool measured) {
+    const std::vector<ColumnReturn> hill = {
+        {0, 6.74f, -0.036f, 0.f},   {1, 7.79f, -0.03f, -0.01f}, {2, 9.13f, -0.007f, 0.02f},
+        {3, 10.84f, 0.048f, -0.01f}, {4, 13.03f, 0.164f, 0.f},  {5, 15.65f, 0.392f, 0.f},
+        {6, 18.74f, 0.778f, 0.02f},  {7, 22.43f, 1.367f, 0.f},  {8, 27.42f, z8, 0.49f}};
+    Scan s;
+    std::vector<float> level2;
+    std::vector<bool> measured_by_point;
+    for (const ColumnReturn& q : hill) {
+      for (int col = 0; col < columns; ++col) {
+        add(s, q.ring, col, q.r, q.z, 1);
+        level2.push_back(q.h);
+        measured_by_point.push_back(q.ring != 8 || measured);
+      }
+    }
+    const Labels out = label_by_cell(s, level2, {}, measured_by_point);
+    return out.ground[static_cast<std::size_t>(8 * columns + columns / 2)] == 1;
+  };
+  CHECK(ring8_ground(60, 2.236f, false));   // a run of 28 m
+  CHECK(!ring8_ground(18, 2.236f, false));  // 8 m: an object's top, as before
+  CHECK(!ring8_ground(60, 2.236f, true));   // the level-2 surface has ground there
+  CHECK(!ring8_ground(60, 1.7f, false));    // under the sensor (1.8 m)
+}
+
 TEST_CASE("column profiles: a ring's ground across the shadow of an obstacle is ground",
           "[detector][profiles]") {
   // Past the box ring 4 is 1.6 m up at 20 m: over the allowance past an obstacle and too
