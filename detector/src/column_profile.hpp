@@ -95,7 +95,7 @@ struct ProfileParams {
   // sensor on a ring run at least rise_run_min_m long where the level-2 surface has no
   // ground of its own (terrain climbing over the sensor, met by one ring far out where the
   // cells only extrapolate; an object on a bank's top or a tree crown is a shorter run: at
-  // 6 m, bank_s603_tilt took a shed's top; at 12 m, hills_s603 lost most of the gain).
+  // 8 m, bank_s603_tilt took a shed's top; at 12 m, hills_s603 lost most of the gain).
   float single_rise_m = 0.3f;
   float rise_run_min_m = 10.f;
   // A return that bent the profile's gradient up by more than kink_gradient (a kink: hills
