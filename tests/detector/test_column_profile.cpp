@@ -455,28 +455,27 @@ TEST_CASE("column profiles: a return a ring between it and the last ground retur
   // kink, later dropped), rings 1-4 on a face 5.5 m out. Ring 2 lies on the profile through
   // ring 0 (the face's foot), but ring 1 returned from its distance, 0.199 m under it.
   CHECK(label_column({{0, 4.6f, 0.701f, 0.79f},
-                {1, 5.48f, 0.667f, 0.75f},
-                {2, 5.48f, 0.866f, 0.95f},
-                {3, 5.48f, 1.06f, 1.15f},
-                {4, 5.46f, 1.256f, 1.34f},
-                {5, 16.76f, 0.459f, 0.02f},
-                {6, 35.53f, 0.062f, 0.f}}) == std::vector<int>{0, 0, 0, 0, 0, 1, 1});
+                      {1, 5.48f, 0.667f, 0.75f},
+                      {2, 5.48f, 0.866f, 0.95f},
+                      {3, 5.48f, 1.06f, 1.15f},
+                      {4, 5.46f, 1.256f, 1.34f},
+                      {5, 16.76f, 0.459f, 0.02f},
+                      {6, 35.53f, 0.062f, 0.f}}) == std::vector<int>{0, 0, 0, 0, 0, 1, 1});
   // Sim garage_s804_tilt (frame 0, column 959): a wall 5.2 m out before any ground, on a
   // level-1 plane; ring 1 was its foot from the start (rule 1's plane clause), but ring 0
   // returned from its distance, 0.198 m under it.
   const std::vector<ColumnReturn> wall = {{0, 5.24f, 0.138f, -0.12f}, {1, 5.24f, 0.336f, 0.03f},
-                                         {2, 5.2f, 0.538f, 0.28f},    {3, 5.22f, 0.722f, 0.46f},
-                                         {4, 5.2f, 0.913f, 0.65f},    {5, 16.53f, 0.782f, 0.f},
-                                         {6, 25.1f, 1.142f, 0.f}};
+                                          {2, 5.2f, 0.538f, 0.28f},   {3, 5.22f, 0.722f, 0.46f},
+                                          {4, 5.2f, 0.913f, 0.65f},   {5, 16.53f, 0.782f, 0.f},
+                                          {6, 25.1f, 1.142f, 0.f}};
   std::vector<float> on_plane;  // the level-1 plane where the level-2 surface lies
   for (const ColumnReturn& q : wall) on_plane.push_back(q.h);
   CHECK(label_column(wall, on_plane) == std::vector<int>{0, 0, 0, 0, 0, 1, 1});
   // A level road whose ring 2 dropped out (as a real sensor does on dark asphalt over whole
   // stretches of columns: vlp16_outdoor_600rpm): a ring gone to the sky only vetoes a climb.
-  CHECK(label_column({{0, 6.f, 0.f, 0.f},
-                {1, 7.f, 0.f, 0.f},
-                {3, 10.5f, 0.f, 0.f},
-                {4, 13.5f, 0.f, 0.f}}) == std::vector<int>{1, 1, 1, 1});
+  CHECK(label_column(
+            {{0, 6.f, 0.f, 0.f}, {1, 7.f, 0.f, 0.f}, {3, 10.5f, 0.f, 0.f}, {4, 13.5f, 0.f, 0.f}}) ==
+        std::vector<int>{1, 1, 1, 1});
 }
 
 TEST_CASE("column profiles: a wall met by the column's lowest return over the start is no foot",
@@ -501,9 +500,7 @@ TEST_CASE("column profiles: a wall met by the column's lowest return over the st
                0) == std::vector<int>{0, 0, 0, 0, 0, 0, 0, 0});
   // Sim embankment_s105 (frame 0, column 467): the column's first return under the start,
   // on a field 2.7 m below the levee, with a post on it: the plane's foot stands.
-  CHECK(labels({{0, 17.31f, -2.735f, 0.f},
-                {1, 17.33f, -2.1f, 0.64f},
-                {2, 23.86f, -2.738f, 0.f}},
+  CHECK(labels({{0, 17.31f, -2.735f, 0.f}, {1, 17.33f, -2.1f, 0.64f}, {2, 23.86f, -2.738f, 0.f}},
                0)[0] == 1);
   // Sim garage_s906 (frame 0, column 1471): a ramp's wall 7 m out (rings 0-7), then a
   // facade 23 m out on the street 2.35 m up: its foot (ring 8) is not the column's first
@@ -529,9 +526,9 @@ TEST_CASE("column profiles: a single rise over the sensor on a long ring run is 
   // ground in the middle column.
   const auto ring8_ground = [](int columns, float z8, bool measured) {
     const std::vector<ColumnReturn> hill = {
-        {0, 6.74f, -0.036f, 0.f},   {1, 7.79f, -0.03f, -0.01f}, {2, 9.13f, -0.007f, 0.02f},
-        {3, 10.84f, 0.048f, -0.01f}, {4, 13.03f, 0.164f, 0.f},  {5, 15.65f, 0.392f, 0.f},
-        {6, 18.74f, 0.778f, 0.02f},  {7, 22.43f, 1.367f, 0.f},  {8, 27.42f, z8, 0.49f}};
+        {0, 6.74f, -0.036f, 0.f},    {1, 7.79f, -0.03f, -0.01f}, {2, 9.13f, -0.007f, 0.02f},
+        {3, 10.84f, 0.048f, -0.01f}, {4, 13.03f, 0.164f, 0.f},   {5, 15.65f, 0.392f, 0.f},
+        {6, 18.74f, 0.778f, 0.02f},  {7, 22.43f, 1.367f, 0.f},   {8, 27.42f, z8, 0.49f}};
     Scan s;
     std::vector<float> level2;
     std::vector<bool> measured_by_point;
@@ -966,10 +963,10 @@ TEST_CASE("column profiles: a wall's foot on a dropped object's top is no ground
   // Sim fences_s1003 (frame 0, column 100): ring 0 on a barrier's top 4.5 m out, taken as a
   // kink and later dropped as a group standing out; rings 1-3 on a face 4.9 m out, ring 1
   // taken as the face's foot on the profile through ring 0; then the road from 15 m.
-  const std::vector<ColumnReturn> fence = {
-      {0, 4.54f, 0.716f, 0.79f},   {1, 4.91f, 0.797f, 0.86f},   {2, 4.91f, 0.976f, 1.04f},
-      {3, 4.91f, 1.15f, 1.22f},    {4, 15.41f, 0.034f, -0.01f}, {5, 21.17f, 0.073f, -0.03f},
-      {6, 33.05f, 0.192f, -0.04f}};
+  const std::vector<ColumnReturn> fence = {{0, 4.54f, 0.716f, 0.79f},   {1, 4.91f, 0.797f, 0.86f},
+                                           {2, 4.91f, 0.976f, 1.04f},   {3, 4.91f, 1.15f, 1.22f},
+                                           {4, 15.41f, 0.034f, -0.01f}, {5, 21.17f, 0.073f, -0.03f},
+                                           {6, 33.05f, 0.192f, -0.04f}};
   CHECK(label_column(fence) == std::vector<int>{0, 0, 0, 0, 1, 1, 1});
   // The same column with a wall 21 m out, whose foot the walk took on the road's profile
   // from 15 m: a ground return kept between, it stays ground.
