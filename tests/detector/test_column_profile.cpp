@@ -1600,3 +1600,37 @@ TEST_CASE("column profiles: terrain climbing on over the sensor on a measured le
   CHECK(ring8({.z_offset_far = -1.f}) == 0);  // under the sensor, where level 2 may lie on a
                                               // fence line's tops
 }
+
+TEST_CASE("column profiles: far past a climb, a return past a face rises from the face's foot",
+          "[detector][profiles]") {
+  // Sim bank_s1001 (frame 3, column 219): rings 0-9 climb the bank to 18.7 m (2.75 m up),
+  // rings 10-12 meet a building's face 27.7 m out, ring 13 a tree crown 38.7 m out, 9.28 m
+  // up. The bank's slope extrapolated 20 m passes 0.75 m under the crown (within the
+  // allowance past an obstacle); the ground at the face lies at or under its lowest return
+  // (4.19 m), and from there the crown is 1.9 m over the slope. The level-2 surface lies at
+  // each return (h 0: only the walk decides).
+  const std::vector<ColumnReturn> bank = {
+      {0, 7.9f, -0.337f, 0.f},   {1, 8.51f, -0.186f, 0.f},  {2, 9.14f, 0.f, 0.f},
+      {3, 9.87f, 0.213f, 0.f},   {4, 10.74f, 0.456f, 0.f},  {5, 11.73f, 0.747f, 0.f},
+      {6, 12.94f, 1.094f, 0.f},  {7, 14.42f, 1.519f, 0.f},  {8, 16.3f, 2.053f, 0.f},
+      {9, 18.72f, 2.748f, 0.f},  {10, 27.65f, 4.185f, 0.f}, {11, 27.69f, 5.164f, 0.f},
+      {12, 27.68f, 6.148f, 0.f}, {13, 38.67f, 9.278f, 0.f}};
+  CHECK(label_column(bank) == std::vector<int>{1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0, 0, 0, 0});
+  // Ground going on from the face's foot at the profile's gradient (within 0.06) is the
+  // climb resuming, as past any obstacle: the face 0.91 m higher, ring 13 0.4 m lower
+  // (0.62 m over the slope drawn from the face's foot, 11 m on).
+  std::vector<ColumnReturn> climbing = bank;
+  for (std::size_t k = 10; k <= 12; ++k) climbing[k].z += 0.91f;
+  climbing.back().z -= 0.4f;
+  CHECK(label_column(climbing).back() == 1);
+  // Without a long climb extrapolated the profile is no guess: a level road to 10 m, a car
+  // in a dip 12 m out (its side's lowest return 0.35 m under the road), the road rising out
+  // of the dip 20 m out, 0.2 m up.
+  CHECK(label_column({{0, 6.f, 0.f, 0.f},
+                      {1, 8.f, 0.f, 0.f},
+                      {2, 10.f, 0.f, 0.f},
+                      {3, 12.f, -0.35f, -0.35f},
+                      {4, 12.f, 0.05f, 0.05f},
+                      {5, 12.f, 0.45f, 0.45f},
+                      {6, 20.f, 0.2f, 0.2f}}) == std::vector<int>{1, 1, 1, 0, 0, 0, 1});
+}
