@@ -218,11 +218,13 @@ class ColumnProfiles {
   [[nodiscard]] bool under_overhang(const ColumnPoint& q, const ColumnPoint& above) const;
   [[nodiscard]] bool under_level_overhang(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool past_hidden_top(float r, float last_r, float last_z) const;
-  // The obstacle return since the last ground return lying deepest under the profile's
-  // extrapolation (r < 0: none): the ground at its distance lies at or under it.
+  // An obstacle return lying `depth` under the profile's extrapolation (r < 0: none): the
+  // ground at its distance lies at or under it.
   struct GroundBound {
     float r = -1.f, z = 0.f, depth = 0.f;
   };
+  [[nodiscard]] GroundBound deepest_obstacle(std::size_t from, std::size_t k, float last_r,
+                                             float last_z, float gradient) const;
   [[nodiscard]] bool rises_off_bound(float r, float z, float gradient,
                                      const GroundBound& bound) const;
   [[nodiscard]] bool kink_was_an_object(std::size_t k, std::size_t profile_size_before) const;
