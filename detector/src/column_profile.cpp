@@ -863,10 +863,9 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // (before the column's first ground return the profile is only the start's guess;
       // but the column's first return over the start's level is no foot: the lowest ring
       // met a wall over the ground it hides, the plane passing there by chance, garage_s105)
-      // Far past the last ground return on a climbing profile, the extrapolation is only a
-      // guess too (a shed's wall on a bank top the rings never see, where the bank's slope
-      // extrapolated runs into it).
-      const bool climb_guessed = gradient * advance > p_.steep_climb_m;
+      // Nor where the climb is only a guess (a shed's wall on a bank top the rings never
+      // see, where the bank's slope extrapolated runs into it).
+      const bool climb_guessed = climb_is_guess(gradient, advance);
       const bool start_guessed = profile_size_ == 1 && (k != begin || over <= 0.f);
       q.ground = (std::abs(over) < p_.steep_band_m && !guess_off && !climb_guessed) ||
                  (std::abs(plane_height[q.index]) < p_.steep_band_m &&
@@ -952,11 +951,10 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
         level_run = takes(face_z);
       }
       next_gradient = std::clamp(step, gradient - p_.gradient_step, gradient + p_.gradient_step);
-      // Far past the last ground return on a climbing profile the extrapolation is only a
-      // guess: the profile drawn from the obstacle return deepest under it must take the
-      // return too (bank_s1001: a tree crown 20 m past the bank's slope, behind a building
-      // whose lowest return the slope extrapolated passes 1.1 m over).
-      if (accept && blocked && gradient * advance > p_.steep_climb_m) {
+      // Where the climb is only a guess, the profile drawn from the obstacle return deepest
+      // under it must take the return too (bank_s1001: a tree crown 20 m past the bank's
+      // slope, behind a building whose lowest return the slope extrapolated passes 1.1 m over).
+      if (accept && blocked && climb_is_guess(gradient, advance)) {
         const Index from = last_ground == end ? begin : last_ground + 1;
         accept =
             !rises_off_bound(r, z, gradient, deepest_obstacle(from, k, last_r, last_z, gradient));
@@ -1027,6 +1025,13 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
 bool ColumnProfiles::past_hidden_top(float r, float last_r, float last_z) const {
   return p_.sensor_z > 0.f && profile_size_ > 2 && last_z > p_.sensor_z &&
          r > p_.hidden_top_range_ratio * last_r;
+}
+
+// Whether the profile, extrapolated `advance` past its last ground return with `gradient`,
+// climbs more than steep_climb_m there: far past the last ground return on a climbing
+// profile the extrapolation is only a guess.
+inline bool ColumnProfiles::climb_is_guess(float gradient, float advance) const {
+  return gradient * advance > p_.steep_climb_m;
 }
 
 // Of the column's returns [from, k) that are no ground and lie past the profile's end (at

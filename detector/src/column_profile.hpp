@@ -220,6 +220,7 @@ class ColumnProfiles {
   [[nodiscard]] bool under_overhang(const ColumnPoint& q, const ColumnPoint& above) const;
   [[nodiscard]] bool under_level_overhang(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool past_hidden_top(float r, float last_r, float last_z) const;
+  [[nodiscard]] bool climb_is_guess(float gradient, float advance) const;
   // An obstacle return lying `depth` under the profile's extrapolation (r < 0: none): the
   // ground at its distance lies at or under it.
   struct GroundBound {
