@@ -10,6 +10,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -311,5 +312,26 @@ class ColumnProfiles {
   void remove_silhouette(const Cloud& cloud, const RingRun& run, const RingRun* before);
   std::vector<RingRun> runs_;  // every ring's runs (strongest layer), in ring order
 };
+
+// Shared by level 3's files (column_walk.cpp, ring_runs.cpp, ring_lines.cpp,
+// column_rises.cpp).
+
+// A ground return of its column that may vouch for its neighbours (rule 4): not on a steep
+// surface taken for the foot of a wall.
+inline bool ColumnProfiles::is_ground_neighbour(std::size_t k) const {
+  return points_[k].ground != 0 && points_[k].steep == 0;
+}
+
+// Whether return k lies more than `by` over the level-2 surface.
+inline bool ColumnProfiles::raised_over_level2(std::size_t k, float by) const {
+  const float h = points_[k].level2_h;
+  return std::isfinite(h) && h > by;
+}
+
+// Whether returns a and b lie at least `distance` apart horizontally.
+inline bool apart(const Cloud& cloud, std::size_t a, std::size_t b, float distance) {
+  const float dx = cloud.x[b] - cloud.x[a], dy = cloud.y[b] - cloud.y[a];
+  return dx * dx + dy * dy >= distance * distance;
+}
 
 }  // namespace vlpground::detail

@@ -1,0 +1,160 @@
+// Level 3 along the rings (docs/detector.md, "Column profiles", rule 5): a ring's line along
+// a wall carries the wall on, and a ring runs on as ground across the shadow of an obstacle
+// in front.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "column_profile.hpp"
+
+namespace vlpground::detail {
+
+using Index = std::size_t;
+
+namespace {
+// high_on_face: a hit this far over a lower ring's hit on the same face, itself an obstacle.
+constexpr float kFaceTwoRings_m = 0.4f;
+}  // namespace
+
+// A ring's line along a wall: a steep obstacle return high on its face (a lower ring of its
+// column met the same face, within the run gap in range, more than drop_m lower) carries
+// the object along its ring: the ground returns that follow it along the ring (in its run,
+// either way) level with it (at most wall_line_band_m under it, or over it) are that object
+// too, seen where no lower ring meets the face in their columns (a shed on a bank's top,
+// whose face the bank hides from the rings below: bank_s101 at Hi-Res). The line ends at a
+// steep return that is not high on its face (the ring came down to the face's foot), at a
+// ground return under the band, and at an obstacle return that is not steep: where a ring
+// runs along a ramp's retaining wall onto the street on its top, it crosses the wall's top
+// edge first (garage_s2).
+void ColumnProfiles::drop_wall_lines(const Cloud& cloud) {
+  refuted_.clear();
+  refuted_.reserve(points_.size());  // grown once, with the cloud
+  for (const RingRun& run : runs_) {
+    if (!ground_and_face(run)) continue;  // most runs are all ground or all obstacle
+    follow_wall_lines(cloud, run, true);
+    follow_wall_lines(cloud, run, false);
+  }
+  for (const std::uint32_t k : refuted_) points_[k].ground = 0;
+}
+
+// Whether run `run` holds both a ground return that is not steep and a steep obstacle
+// return. Steep returns are few: a search of the frame's steep flags in cloud order, 8 at a
+// time, rules most runs out first.
+bool ColumnProfiles::ground_and_face(const RingRun& run) const {
+  Index i = run.a;
+  const Index end = run.b + 1;
+  for (std::uint64_t word = 0; i + 8 <= end; i += 8) {
+    std::memcpy(&word, steep_ + i, sizeof word);
+    if (word != 0) break;
+  }
+  while (i < end && steep_[i] == 0) ++i;
+  if (i == end) return false;
+  bool ground = false, face = false;
+  for (Index j = run.a; j < end && !(ground && face); ++j) {
+    const ColumnPoint& q = points_[position_[j]];
+    ground = ground || (q.ground != 0 && q.steep == 0);
+    face = face || (q.ground == 0 && q.steep != 0);
+  }
+  return ground && face;
+}
+
+// One sweep of drop_wall_lines along run `run` (forward: in column order).
+void ColumnProfiles::follow_wall_lines(const Cloud& cloud, const RingRun& run, bool forward) {
+  // The last steep obstacle return of the line (kNone: no line); whether it is high on its
+  // face is asked only when a ground return follows it (walls are long).
+  Index face = kNone;
+  int high = -1;  // -1: not asked yet
+  for (Index n = 0; n <= run.b - run.a; ++n) {
+    const Index k = position_[forward ? run.a + n : run.b - n];
+    const ColumnPoint& q = points_[k];
+    if (q.steep != 0) {  // the face goes on: high on it, or down to its foot
+      face = q.ground == 0 ? k : kNone;
+      high = -1;
+      continue;
+    }
+    if (face != kNone && q.ground != 0 && q.z >= points_[face].z - p_.wall_line_band_m) {
+      if (high < 0) high = high_on_face(cloud, face) ? 1 : 0;
+      if (high != 0) {
+        refuted_.push_back(static_cast<std::uint32_t>(k));
+        continue;
+      }
+    }
+    face = kNone;
+  }
+}
+
+// Whether column point k (steep) lies more than drop_m over a lower ring's return of its
+// column on the same face (within the run gap in range), or more than kFaceTwoRings_m over
+// one that is itself an obstacle on a steep face: the face is then two rings tall, and
+// rings 1.33 degrees apart (Puck Hi-Res) meet it only 0.45 m apart 20 m out (bank_s105).
+bool ColumnProfiles::high_on_face(const Cloud& cloud, Index k) const {
+  const ColumnPoint& q = points_[k];
+  const Index begin = column_start_[cloud.column[q.index]];
+  const float gap = run_gap(q.r);
+  for (Index j = begin; j < k; ++j) {
+    const ColumnPoint& low = points_[j];
+    if (low.ring >= q.ring || std::abs(low.r - q.r) > gap) continue;
+    const bool low_on_face = low.steep != 0 && low.ground == 0;
+    if (q.z - low.z > (low_on_face ? kFaceTwoRings_m : p_.drop_m)) return true;
+  }
+  return false;
+}
+
+// Run [begin, end) of one ring: an obstacle near the sensor (a trunk, a box, a car) hides
+// the lower rings of the columns behind it, and the walk refuses the ground a higher ring
+// sees past it when that ground has risen more than the allowance past an obstacle (the
+// far side of a bowl, a hill behind a tree). The ring itself runs on across the shadow: a
+// stretch of such returns with ground on both sides is ground where it lies on the line
+// joining that ground. The ground on each side must be seen over shadow_anchor_m, so that
+// a lone ground return on a fence line anchors nothing. Single rises (rule 4) under the
+// ground the vehicle stands on are taken the same way: a ring grazing a levee's side where
+// the level-2 surface was fitted to the fields below.
+void ColumnProfiles::fill_shadows(const Cloud& cloud, Index begin, Index end,
+                                  std::vector<std::uint8_t>& ground) const {
+  Index anchor = end;  // last return of a long enough ground stretch before a shadow
+  Index start = end;   // first return of the ground stretch being walked
+  bool long_stretch = false;
+  for (Index i = begin; i < end; ++i) {
+    if (ground[i] == 0) {
+      start = end;
+      long_stretch = false;
+      if (shadowed_[i] == 0) anchor = end;  // an obstacle of the ring itself
+      continue;
+    }
+    if (start == end) start = i;
+    // The first ground return past a shadow: the ground beyond it must be long enough too.
+    if (anchor != end && i > anchor + 1 && ground[i - 1] == 0 &&
+        long_ground_from(cloud, ground, i, end))
+      fill_between(cloud, anchor, i, ground);
+    long_stretch = long_stretch || apart(cloud, start, i, p_.shadow_anchor_m);
+    if (long_stretch) anchor = i;
+  }
+}
+
+// The returns between ground returns a and b (same ring) become ground when every refused
+// one lies within shadow_band_m of the line joining a and b (by column); the foot of a wall
+// within steep_band_m of it, as on the profile.
+void ColumnProfiles::fill_between(const Cloud& cloud, Index a, Index b,
+                                  std::vector<std::uint8_t>& ground) const {
+  const float z0 = cloud.z[a], z1 = cloud.z[b];
+  const float span = static_cast<float>(cloud.column[b] - cloud.column[a]);
+  for (Index k = a + 1; k < b; ++k) {
+    const float t = static_cast<float>(cloud.column[k] - cloud.column[a]) / span;
+    const float band = shadowed_[k] == kFoot ? p_.steep_band_m : p_.shadow_band_m;
+    if (ground[k] == 0 && std::abs(cloud.z[k] - (z0 + t * (z1 - z0))) > band) return;
+  }
+  std::fill(ground.begin() + static_cast<std::ptrdiff_t>(a) + 1,
+            ground.begin() + static_cast<std::ptrdiff_t>(b), std::uint8_t{1});
+}
+
+// Whether the ground returns of the run from i (before `end`) reach shadow_anchor_m from it.
+inline bool ColumnProfiles::long_ground_from(const Cloud& cloud,
+                                             const std::vector<std::uint8_t>& ground, Index i,
+                                             Index end) const {
+  for (Index j = i; j < end && ground[j] != 0; ++j) {
+    if (apart(cloud, i, j, p_.shadow_anchor_m)) return true;
+  }
+  return false;
+}
+
+}  // namespace vlpground::detail

@@ -1,0 +1,315 @@
+// Level 3 along the rings (docs/detector.md, "Column profiles", rule 5): runs of returns
+// continuous along each ring, and the runs standing out of the terrain as objects
+// (silhouettes).
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "column_profile.hpp"
+
+namespace vlpground::detail {
+
+using Index = std::size_t;
+
+namespace {
+// Whether returns a and b lie within `limit` of each other in horizontal range and height
+// (the run gap's test; mark_continuous does the same inline, vectorised).
+bool close_in_range_and_height(const Cloud& cloud, std::size_t a, std::size_t b, float limit) {
+  const float dr = cloud.range_xy[b] - cloud.range_xy[a], dz = cloud.z[b] - cloud.z[a];
+  return dr * dr + dz * dz <= limit * limit;
+}
+}  // namespace
+
+// Along each ring (strongest layer), runs of returns continuous in space: the run [a, b]
+// of the ring's returns [first, last), found once per frame (positions only).
+void ColumnProfiles::find_ring_runs(const Cloud& cloud, Index strongest_end) {
+  runs_.clear();
+  mark_continuous(cloud, strongest_end);
+  const RingRuns rows = point_ring_runs(cloud, 0, strongest_end);
+  for (int ring = 0; ring < kLasers; ++ring) {
+    const Index first = rows[static_cast<Index>(ring)], last = rows[static_cast<Index>(ring) + 1];
+    const Index first_run = runs_.size();
+    Index a = first;
+    while (a < last) {
+      Index b = a;
+      while (b + 1 < last && (continuous_[b] != 0 || bridged_over_sensor(cloud, b))) ++b;
+      runs_.push_back({first, last, a, b});
+      a = b + 1;
+    }
+    const Index last_run = runs_.size() - 1;
+    if (first < last && last_run > first_run && continuous_across_edge(cloud, last - 1, first)) {
+      runs_[first_run].wrap = last_run;
+      runs_[last_run].wrap = first_run;
+    }
+  }
+}
+
+// Whether the ring's last return (`end`, at the frame's last columns) and its first
+// (`start`, at the first columns) are continuous across the frame's edge: within
+// run_column_gap columns of each other around the rotation, and close in range, height and
+// position (a frame that is not a whole rotation leaves them far apart), by kEdgeMotionSlack
+// times the run gap: the vehicle moved between the two ends of the rotation (0.6-0.7 m on a
+// ramp at 5 Hz, garage_s5; hills_s3).
+bool ColumnProfiles::continuous_across_edge(const Cloud& cloud, Index end, Index start) const {
+  const int columns = static_cast<int>(column_start_.size()) - 1;
+  const int gap =
+      static_cast<int>(cloud.column[start]) + columns - static_cast<int>(cloud.column[end]);
+  const float limit = kEdgeMotionSlack * run_gap(cloud.range_xy[end]);
+  return gap <= p_.run_column_gap && close_in_range_and_height(cloud, end, start, limit) &&
+         !apart(cloud, end, start, limit);
+}
+
+// Level ground taken running on past a face under the sensor (ColumnPoint::level_run) lies
+// on a ring run longer than level_run_min_m (the chord between its ends; a run across the
+// frame's edge counts as long): the street beside a ramp runs on along the ring between the
+// cars parked on it, where roofs past a car's side are short runs between nearer returns
+// (jam). Dropped, such a return is refused past an obstacle in front, as the walk would
+// have refused it: fill_shadows may still take it from the ring.
+void ColumnProfiles::drop_short_level_runs(const Cloud& cloud) {
+  for (const RingRun& run : runs_) {
+    if (run.wrap != kNoRun || apart(cloud, run.a, run.b, p_.level_run_min_m)) continue;
+    for (Index i = run.a; i <= run.b; ++i) {
+      ColumnPoint& q = points_[position_[i]];
+      if (q.level_run == 0) continue;
+      q.ground = 0;
+      q.shadowed = kShadow;
+    }
+  }
+}
+
+// Terrain seen by a ring is a long continuous curve: a short run whose both ends border the
+// sky (no return) or returns behind it (farther away) is an object standing out: a tree
+// crown, a shed or a fence over ground the rings do not see, or in front of ground seen
+// farther on. (Ground refused in the shadow of an obstacle within a run is filled in
+// afterwards: fill_shadows.)
+void ColumnProfiles::remove_silhouettes(const Cloud& cloud) {
+  stands_out_.assign(cloud.size(), 0);
+  for (const RingRun& run : runs_) {
+    // A run going on across the frame's edge is judged whole, from its part before the edge
+    // (the ring's last run) to its part after it (the ring's first run).
+    if (run.wrap != kNoRun && run.a != run.first) continue;
+    const RingRun* before = run.wrap != kNoRun ? &runs_[run.wrap] : nullptr;
+    const Index outer_a = before != nullptr ? before->a : run.a;
+    if (before != nullptr && !under_half_turn(cloud, before->a, run.b)) continue;
+    if (!stands_out(cloud, run.first, run.last, outer_a, run.b)) continue;
+    if (before != nullptr) mark_standing_out(*before);
+    mark_standing_out(run);
+  }
+  mark_broken_silhouettes(cloud);
+  for (const RingRun& run : runs_) {
+    if (stands_out_[run.a] == 0 || (run.wrap != kNoRun && run.a != run.first)) continue;
+    remove_silhouette(cloud, run, run.wrap != kNoRun ? &runs_[run.wrap] : nullptr);
+  }
+}
+
+// An object that a small gap in its ring cut in two (a drop-out, its edge stepping back by
+// more than the run gap; across the frame's edge too): neighbouring runs whose cut is small (within
+// twice the run gap, fewer columns missing than the sky takes) stand out together when the
+// whole is short (silhouette_max_m), the nearer part stands out and the other opens onto
+// the sky at its far end and stands over the level-2 surface: a bush at a crest's far side,
+// the ring seeing the sky on one side and the fields far below on the other (hills_s102).
+// Only under the sensor: a run met by rising rays may end in the sky where the terrain does
+// (a bank's top edge); a falling ray meets the sky only past terrain falling out of reach.
+void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
+  const int columns = static_cast<int>(column_start_.size()) - 1;
+  for (std::size_t i = 0; i < runs_.size(); ++i) {
+    const std::size_t j = next_run(i);
+    if (j == kNoRun || runs_[i].wrap != kNoRun || runs_[j].wrap != kNoRun) continue;
+    const RingRun &one = runs_[i], &two = runs_[j];
+    const bool out_one = stands_out_[one.a] != 0, out_two = stands_out_[two.a] != 0;
+    if ((out_one && out_two) || cloud.z[one.b] >= p_.sensor_z || cloud.z[two.a] >= p_.sensor_z)
+      continue;
+    const int cut = (cloud.column[two.a] - cloud.column[one.b] + columns) % columns - 1;
+    const float limit = 2.f * run_gap(cloud.range_xy[one.b]);
+    if (cut >= p_.sky_columns || apart(cloud, one.b, two.a, limit) ||
+        apart(cloud, one.a, two.b, p_.silhouette_max_m))
+      continue;
+    const bool two_nearer = cloud.range_xy[two.a] < cloud.range_xy[one.b];
+    bool together = false;
+    // The farther part must stand over the level-2 surface too (at both its ends): the
+    // terrain seen elsewhere lies lower there. A real ring has drop-outs on dark ground that
+    // look like the sky (vlp16_outdoor_600rpm: road 32 m out beside a car).
+    auto raised = [&](const RingRun& part) {
+      return raised_over_level2(position_[part.a], p_.single_rise_m) &&
+             raised_over_level2(position_[part.b], p_.single_rise_m);
+    };
+    if (out_two && two_nearer) {
+      together = outer_end_sky(cloud, one, false) && raised(one);
+    } else if (out_one && !two_nearer) {
+      together = outer_end_sky(cloud, two, true) && raised(two);
+    }
+    if (!together) continue;
+    mark_standing_out(one);
+    mark_standing_out(two);
+  }
+}
+
+// Marks run `run`'s returns as standing out.
+void ColumnProfiles::mark_standing_out(const RingRun& run) {
+  std::fill(stands_out_.begin() + static_cast<std::ptrdiff_t>(run.a),
+            stands_out_.begin() + static_cast<std::ptrdiff_t>(run.b) + 1, std::uint8_t{1});
+}
+
+// Whether run `run`'s last end (`after`) or first end opens onto the sky (sky_columns
+// columns without a return).
+bool ColumnProfiles::outer_end_sky(const Cloud& cloud, const RingRun& run, bool after) const {
+  int gap = 0;
+  static_cast<void>(beyond_end(cloud, run.first, run.last, after ? run.b : run.a, after, gap));
+  return gap >= p_.sky_columns;
+}
+
+// The run after run i along its ring; across the frame's edge, the ring's first run for its
+// last one; kNoRun for a ring of one run.
+std::size_t ColumnProfiles::next_run(std::size_t i) const {
+  const RingRun& run = runs_[i];
+  if (run.b + 1 < run.last) return i + 1;
+  std::size_t j = i;
+  while (runs_[j].a != run.first) --j;  // the ring's first run
+  return j == i ? kNoRun : j;
+}
+
+// Whether a run from return a (before the frame's edge) to b (after it) covers less than
+// half the frame's columns: its extent, the chord between its ends, then measures it (a ring
+// seen all around but for a gap has close ends too).
+bool ColumnProfiles::under_half_turn(const Cloud& cloud, Index a, Index b) const {
+  const int columns = static_cast<int>(column_start_.size()) - 1;
+  const int span = static_cast<int>(cloud.column[b]) + columns - static_cast<int>(cloud.column[a]);
+  return 2 * span < columns;
+}
+
+// The run standing out (with its part before the frame's edge, if any) is an object unless
+// it carries the road the vehicle stands on (its column's first return level with the start,
+// the next ground return of the column going on level behind it and not standing out) over
+// shadow_anchor_m of the ring: that road seen over a short stretch (the vehicle near a
+// levee's edge, a car beside it), not an object: the next ring passes over a tree crown level
+// with the road to the fields, or meets the crown again, standing out as well; over a low
+// object a higher ring sees the road only in its gaps.
+void ColumnProfiles::remove_silhouette(const Cloud& cloud, const RingRun& run,
+                                       const RingRun* before) {
+  Index road_first = kNone, road_last = kNone;
+  for (const RingRun* part : {before, &run}) {
+    if (part == nullptr) continue;
+    for (Index i = part->a; i <= part->b; ++i) {
+      const std::uint32_t beyond = points_[position_[i]].road_beyond;
+      if (beyond == kNoPoint || stands_out_[beyond] != 0) continue;
+      if (road_first == kNone) road_first = i;
+      road_last = i;
+    }
+  }
+  if (road_first != kNone && apart(cloud, road_first, road_last, p_.shadow_anchor_m)) return;
+  for (const RingRun* part : {before, &run}) {
+    if (part == nullptr) continue;
+    for (Index i = part->a; i <= part->b; ++i) points_[position_[i]].ground = 0;
+  }
+}
+
+// Whether each return of [0, end) is continuous with the next one (run_column_gap,
+// run_gap_m + run_gap_per_m x range): one pass without branches, so that the compiler
+// vectorises it (the ring runs read it only within a ring).
+void ColumnProfiles::mark_continuous(const Cloud& cloud, Index end) {
+  continuous_.resize(end);
+  const std::uint16_t* column = cloud.column.data();
+  const float *range = cloud.range_xy.data(), *z = cloud.z.data();
+  const int column_gap = p_.run_column_gap;
+  const float gap_m = p_.run_gap_m, gap_per_m = p_.run_gap_per_m;
+  std::uint8_t* continuous = continuous_.data();
+  for (Index a = 0; a + 1 < end; ++a) {
+    const float dr = range[a + 1] - range[a], dz = z[a + 1] - z[a];
+    const float limit = gap_m + gap_per_m * range[a];
+    continuous[a] = static_cast<std::uint8_t>((column[a + 1] - column[a] <= column_gap) &
+                                              (dr * dr + dz * dz <= limit * limit));
+  }
+}
+
+// Whether return a and the ring's next one, not continuous (mark_continuous), are so but
+// for one more dropped column, both more than drop_m over the sensor: a tree crown met by
+// rising rays drops returns (foliage); lower down real rings drop out on dark asphalt, and a
+// road arc (or the floor under a sensor standing on it, vlp16_dual_close_range) merged
+// across its drop-outs would make short runs open at both ends.
+bool ColumnProfiles::bridged_over_sensor(const Cloud& cloud, Index a) const {
+  const float over = p_.sensor_z + p_.drop_m;  // clearly over: not a floor the sensor stands on
+  if (cloud.z[a] <= over || cloud.z[a + 1] <= over) return false;
+  return cloud.column[a + 1] - cloud.column[a] == p_.run_column_gap + 1 &&
+         close_in_range_and_height(cloud, a, a + 1, run_gap(cloud.range_xy[a]));
+}
+
+// Run [a, b] of one ring (positions first..last): short, and both ends open to the sky or
+// to returns behind it.
+bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Index a,
+                                Index b) const {
+  const float extent = std::hypot(cloud.x[b] - cloud.x[a], cloud.y[b] - cloud.y[a]);
+  if (extent > p_.silhouette_max_m) return false;
+  int gap_a = 0, gap_b = 0;
+  const Index before = beyond_end(cloud, first, last, a, false, gap_a);
+  const Index after = beyond_end(cloud, first, last, b, true, gap_b);
+  return end_open(cloud, a, before, gap_a) && end_open(cloud, b, after, gap_b);
+}
+
+// The ring's return beyond run end `end` (positions first..last): the next one (`after`)
+// or the one before, or kNone at the frame's edge. `gap` is set to the columns without a
+// return between `end` and it; at the frame's edge, to those up to the ring's return across
+// it (its first or last one) where the frame is a whole rotation there (the two returns'
+// azimuths as close as their column gap says), else up to the edge, beyond which nothing is
+// known. Across the edge only the gap counts (the sky): the vehicle moved between the two
+// ends of the rotation, so their ranges do not compare.
+std::size_t ColumnProfiles::beyond_end(const Cloud& cloud, Index first, Index last, Index end,
+                                       bool after, int& gap) const {
+  const int columns = static_cast<int>(column_start_.size()) - 1;
+  const int column = cloud.column[end];
+  if (after ? end + 1 < last : end > first) {
+    const Index beyond = after ? end + 1 : end - 1;
+    gap = std::abs(static_cast<int>(cloud.column[beyond]) - column) - 1;
+    return beyond;
+  }
+  gap = after ? columns - 1 - column : column;
+  const Index across = after ? first : last - 1;
+  if (across == end) return kNone;
+  const int around =
+      (after ? cloud.column[across] + columns - column : column + columns - cloud.column[across]) -
+      1;
+  const float ex = cloud.x[end] - p_.sensor_x, ey = cloud.y[end] - p_.sensor_y;
+  const float ox = cloud.x[across] - p_.sensor_x, oy = cloud.y[across] - p_.sensor_y;
+  const float cos_apart = (ex * ox + ey * oy) / (std::hypot(ex, ey) * std::hypot(ox, oy));
+  const float step_rad = 2.f * std::numbers::pi_v<float> / static_cast<float>(columns);
+  if (cos_apart >= std::cos(kAzimuthSlack * static_cast<float>(around + 1) * step_rad))
+    gap = around;
+  return kNone;
+}
+
+// Whether a run's end return `end` opens onto the sky (`gap` columns without a return to
+// the ring's next return `beyond`, or to the frame's edge when that is kNone, reach
+// sky_columns) or onto a return behind it (farther away).
+bool ColumnProfiles::end_open(const Cloud& cloud, Index end, Index beyond, int gap) const {
+  if (gap >= p_.sky_columns) return true;  // no return for a while: the sky
+  return beyond != kNone && (cloud.range_xy[beyond] > cloud.range_xy[end] + p_.run_gap_m ||
+                             stopped_by_face(cloud, end, beyond));
+}
+
+// Whether the ray of return `end`, rising over the sensor, passed on where the same ring's
+// ray beside it (the ring's next return, `nearer`, fewer than sky_columns columns on, closer
+// by more than the ring's run gap) met ground that climbed from its column's last ground
+// return more steeply than face_over_ray x its ray.
+// Terrain does not let the one ray pass beside a face the other ray met: `end` is an object
+// seen past the face's end.
+bool ColumnProfiles::stopped_by_face(const Cloud& cloud, Index end, Index nearer) const {
+  if (p_.sensor_z <= 0.f || cloud.z[end] <= p_.sensor_z) return false;
+  const float r = cloud.range_xy[end];
+  if (cloud.range_xy[nearer] >= r - run_gap(r)) return false;
+  const Index k = position_[nearer];
+  const ColumnPoint& q = points_[k];
+  if (q.ground == 0 || q.steep != 0) return false;
+  const Index begin = column_start_[cloud.column[nearer]];
+  float last_r = 0.f, last_z = start_z_;  // the column's start when no ground return before
+  for (Index j = k; j > begin;) {
+    if (points_[--j].ground != 0) {
+      last_r = points_[j].r;
+      last_z = points_[j].z;
+      break;
+    }
+  }
+  if (q.r < last_r + p_.min_advance_m) return false;
+  const float ray = (q.z - p_.sensor_z) / q.r;
+  return (q.z - last_z) / (q.r - last_r) >= p_.face_over_ray * ray;
+}
+
+}  // namespace vlpground::detail
