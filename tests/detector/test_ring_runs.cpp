@@ -1,0 +1,273 @@
+// Column profiles along the rings (docs/detector.md, "Column profiles", rules 5 and 7):
+// silhouettes, a ring across the frame's edge, lines along walls, shadows.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "column_scan.hpp"
+
+using namespace vlpground::detail;
+using namespace column_scan;
+
+TEST_CASE("column profiles: a ring's ground across the shadow of an obstacle is ground",
+          "[detector][profiles]") {
+  // Past the box ring 4 is 1.6 m up at 20 m: over the allowance past an obstacle and too
+  // steep a resume (0.08) for its column alone, but its ring runs on level from the ground
+  // on both sides of the shadow.
+  for (const float z : {1.6f, 2.1f}) {
+    const Scan s = bowl_behind_box(z);
+    const auto ground = label(s).ground;
+    int shadow_ground = 0, shadow_returns = 0;
+    for (std::size_t i = 0; i < s.cloud.size(); ++i) {
+      if (s.cloud.ring[i] != 4 || s.cloud.column[i] < 20 || s.cloud.column[i] >= 40) continue;
+      ++shadow_returns;
+      shadow_ground += ground[i];
+    }
+    INFO("ring 4 past the box at z " << z);
+    CHECK(shadow_returns == 20);
+    // 0.5 m over the line joining the ground on both sides: standing on the bowl, not it.
+    CHECK(shadow_ground == (z < 1.7f ? 20 : 0));
+  }
+}
+
+TEST_CASE("column profiles: a ring grazing a levee's side under the vehicle's ground is ground",
+          "[detector][profiles]") {
+  // Ring 0 over 41 columns 1 degree apart runs down a levee's side from 0.2 m to 1.0 m
+  // under the road (continuous along the ring), ring 1 beyond on the fields 2 m down. The
+  // level-2 surface follows the side in columns 0-9 and 31-40 and is fitted to the fields
+  // in between: there ring 0 is a single rise in its column (no raised neighbour, no ground
+  // before it), but its ring runs on from ground to ground, on the line joining them.
+  const auto grazing = [](float dz) {
+    Scan s;
+    for (int col = 0; col <= 40; ++col) {
+      const float z = dz - 0.2f - 0.02f * static_cast<float>(col);
+      add(s, 0, col, 8.f + 0.05f * static_cast<float>(col), z, 1);
+    }
+    for (int col = 0; col <= 40; ++col) add(s, 1, col, 17.f, -2.f, 1);
+    std::vector<float> level2(s.cloud.size(), 0.f);
+    for (std::size_t col = 10; col <= 30; ++col) level2[col] = s.cloud.z[col] + 2.f;
+    const auto ground = label(s, level2).ground;
+    int side = 0;
+    for (std::size_t col = 10; col <= 30; ++col) side += ground[col];
+    return side;
+  };
+  CHECK(grazing(0.f) == 21);
+  // The same ring line 1.3 m higher, over the vehicle's ground: a ring line over a fence or a
+  // box stays a single rise.
+  CHECK(grazing(1.3f) == 0);
+}
+
+TEST_CASE("column profiles: the vehicle's road seen by two rings over a short stretch is ground",
+          "[detector][profiles]") {
+  // Sim embankment (seed 3, frame 4): the vehicle near a levee's edge; ring 0 meets the road
+  // 7.3 m out only over 45 columns (5.5 m along the ring), passing over the edge to the
+  // fields 1.9 m lower on both sides: a short run open to farther returns at both ends
+  // (rule 5). Ring 1 goes on on the road 8.4 m out in the same columns, one run longer than
+  // silhouette_max_m.
+  enum Kind { kRoad, kRoadRing1Lower, kCrown, kLowObject };
+  const auto scene = [](Kind kind) {
+    Scan s;
+    const bool crown = kind == kCrown;
+    auto on_road = [&](int col) { return crown ? col >= 30 && col <= 38 : col >= 20 && col <= 64; };
+    for (int col = 0; col <= 84; ++col) {
+      if (!on_road(col)) add(s, 0, col, 14.f, -1.9f, 1);
+      else if (crown) add(s, 0, col, 10.5f, 0.1f, 2);
+      else if (kind == kLowObject) add(s, 0, col, 7.3f, 0.12f, 2);
+      else add(s, 0, col, 7.3f, -0.03f, 1);
+    }
+    for (int col = 0; col <= 84; ++col) {
+      if (!on_road(col)) add(s, 1, col, 16.5f, -1.9f, 1);
+      else if (crown) add(s, 1, col, 11.7f, 0.15f, 2);
+      else if (kind == kLowObject && col != 42) add(s, 1, col, 7.9f, 0.3f, 2);
+      else add(s, 1, col, 8.4f, kind == kRoadRing1Lower ? -0.35f : -0.03f, 1);
+    }
+    const auto ground = label(s).ground;
+    int kept = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      if (s.cloud.ring[i] == 0 && on_road(s.cloud.column[i])) kept += ground[i];
+    }
+    return kept;
+  };
+  CHECK(scene(kRoad) == 45);  // the road, going on level behind ring 0
+  CHECK(scene(kRoadRing1Lower) == 0);  // ring 1 not level with it: nothing vouches for it
+  // A tree crown in the fields level with the road (ring 0 at 10.5 m) is met again by ring
+  // 1, which stands out as well; a low object level with the road, where ring 1 sees the
+  // road behind it in one gap only (not over shadow_anchor_m of the ring): objects.
+  CHECK(scene(kCrown) == 0);
+  CHECK(scene(kLowObject) == 0);
+}
+
+TEST_CASE("column profiles: a rising ray passing on beside a face the next column met is an object",
+          "[detector][profiles]") {
+  // Sim bank_s101 (frame 4): rings 0-3 climb a bank face at 0.35; in columns 30-59 ring 4,
+  // rising over the sensor, meets the face 2.5 m past ring 3; in columns 20-29 it passes on
+  // and meets a bush on the bank's top 26 m out, far under the profile extrapolated up the
+  // face (taken as the level top beyond the face); in columns 0-19 it goes to the sky. The
+  // bush's run is short (4.5 m) and open to the sky on one side; on the other the same ray
+  // met the face nearer, climbing more steeply than face_over_ray x the ray.
+  const auto bush_ground = [](float face_z) {
+    Scan s;
+    add_bank_rings(s, 4, 60);
+    const float ray = (1.925f - 1.8f) / 15.5f;  // ring 4's slope over the sensor (1.8 m)
+    for (int col = 20; col < 60; ++col) {
+      if (col < 30) add(s, 4, col, 26.f, 1.8f + ray * 26.f, 2);
+      else add(s, 4, col, 15.5f, face_z, face_z < 3.f ? 1 : 2);
+    }
+    return ground_on_ring(s, label(s).ground, 4, 30);
+  };
+  CHECK(bush_ground(1.925f) == 0);  // the face going on at 0.35, the ray at 0.008
+  // Where ring 4 met no ground nearer (a car roof 4 m up, refused as a step), nothing says
+  // the terrain did not rise to meet the ray 26 m out.
+  CHECK(bush_ground(4.f) == 10);
+}
+
+TEST_CASE("column profiles: a ring is a closed curve across the frame's edge",
+          "[detector][profiles]") {
+  // Sim slope (seed 2): a low object 35 m straight ahead, where the frame's edge cuts the
+  // rotation, 0.8 m over ground that falls away past a grade change; ring 6 meets it over
+  // columns 357-359 and 0-2 only, level enough with ring 5's road at 22.7 m for the walk to
+  // take it, and passes on to ground 55 m out on both sides of it. Judged whole across the
+  // edge, its run stands out (rule 5).
+  const auto scan = [](bool object) {
+    Scan s;
+    const auto ahead = [](int col) { return col >= kColumns - 3 || col <= 2; };
+    for (int ring = 4; ring <= 6; ++ring) {
+      for (int col = 0; col < kColumns; ++col) {
+        if (ring == 6 && object && ahead(col)) {
+          add(s, ring, col, 35.f, 0.1f, 2);
+        } else {
+          const float r = ring == 4 ? 16.f : ring == 5 ? 22.7f : 55.f;
+          add(s, ring, col, r, ring == 6 ? -1.f : 0.f, 1);
+        }
+      }
+    }
+    return s;
+  };
+  const Scan s = scan(true);
+  const auto ground = label(s).ground;
+  for (std::size_t i = 0; i < ground.size(); ++i) {
+    INFO("ring " << s.cloud.ring[i] << " column " << s.cloud.column[i]);
+    if (s.truth[i] == 2) CHECK(ground[i] == 0);
+  }
+  // A ring seen all around but for a gap behind (the vehicle's own body) has close ends
+  // too: judged by the chord between them it would stand out; it covers more than half a
+  // turn, so it does not.
+  Scan ring0;
+  for (int col = 0; col < kColumns; ++col) {
+    if (col < 170 || col > 190) add(ring0, 0, col, 6.f, 0.f, 1);
+  }
+  const auto road = label(ring0).ground;
+  int taken = 0;
+  for (const std::uint8_t g : road) taken += g;
+  CHECK(taken == static_cast<int>(road.size()));
+}
+
+TEST_CASE("column profiles: an object a gap cut in two stands out whole",
+          "[detector][profiles]") {
+  // Sim hills_s102 (frame 2): past a crest, ring 6 meets a low object 33-34 m out whose
+  // edge steps back 1.4 m at a dropped column; the ground beside it fell out of reach (no
+  // return: the sky). Its nearer part (columns 24-26) stands out, the sky on one side and
+  // the farther part on the other; the farther part (columns 20-22) meets the sky on one
+  // side and the nearer part on the other. Together they are one short object.
+  const auto scan = [](int near_last_col) {
+    Scan s;
+    const float r[] = {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f};
+    for (int ring = 0; ring < 6; ++ring) {
+      for (int col = 0; col <= 60; ++col) add(s, ring, col, r[ring], 0.3f - 0.01f * r[ring], 1);
+    }
+    for (int col = 20; col <= 22; ++col) add(s, 6, col, 34.f, 0.08f, 2);
+    for (int col = 24; col <= near_last_col; ++col) add(s, 6, col, 32.7f, 0.11f, 2);
+    return s;
+  };
+  // The level-2 surface lies 1 m under the farther part (the terrain seen elsewhere falls
+  // away there), or on it (`on_terrain`: a ring's drop-out on dark ground beside a car).
+  const auto ring6_ground = [](const Scan& s, bool on_terrain = false) {
+    std::vector<float> level2(s.cloud.size(), 0.f);
+    for (std::size_t i = 0; i < level2.size(); ++i) {
+      if (s.cloud.ring[i] == 6 && s.cloud.column[i] <= 22 && !on_terrain) level2[i] = 1.f;
+    }
+    const auto ground = label(s, level2).ground;
+    int far = 0, near = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      if (s.cloud.ring[i] != 6) continue;
+      (s.cloud.column[i] <= 22 ? far : near) += ground[i];
+    }
+    return std::pair{far, near};
+  };
+  CHECK(ring6_ground(scan(26)) == std::pair{0, 0});
+  // Where the level-2 surface agrees with the farther part, the sky beside it may be a
+  // drop-out of the ground: the farther part stays ground.
+  CHECK(ring6_ground(scan(26), true) == std::pair{3, 0});
+  // Where the nearer part runs on (ground seen along 36 columns) it does not stand out: it
+  // hides where the farther part ends, and nothing is said of that part.
+  CHECK(ring6_ground(scan(60)) == std::pair{3, 37});
+}
+
+TEST_CASE("column profiles: a ring's line running on from high on a wall is that wall",
+          "[detector][profiles]") {
+  // Sim bank_s101 (Hi-Res, frame 4): rings 0-3 climb a bank face at 0.35; ring 4 runs along
+  // a shed on the bank's top 16 m out. In columns 20-39 ring 3 meets the shed's face too,
+  // 0.6 m under ring 4 (ring 4 is high on the face); in columns 0-19 ring 3 meets the bank
+  // and ring 4, level with its hits on the face, is a gentle bend of the profile up the
+  // bank. Continuous along the ring with the face and level with it, it is the shed.
+  const auto scan = [](float far_z, float face_low_z = 1.3f) {
+    Scan s;
+    add_bank_rings(s, 3, 40);
+    for (int col = 0; col < 40; ++col) {
+      add(s, 3, col, col < 20 ? 13.f : 16.f, col < 20 ? 1.05f : face_low_z, col < 20 ? 1 : 2);
+    }
+    for (int col = 0; col < 40; ++col) add(s, 4, col, 16.f, col < 20 ? far_z : 1.9f, 2);
+    return s;
+  };
+  const auto ring4_ground = [](const Scan& s) { return ground_on_ring(s, label(s).ground, 4, 20); };
+  CHECK(ring4_ground(scan(1.9f)) == 0);
+  // Sim bank_s105 at Hi-Res (rings 1.33 degrees apart): ring 3 meets the face only 0.45 m
+  // under ring 4, itself an obstacle on the face: ring 4 is high on a face two rings tall.
+  CHECK(ring4_ground(scan(1.9f, 1.45f)) == 0);
+  // Ring 4 leaving the face downwards (0.3 m under its last hit high on it) is not the
+  // wall's line going on: the bend up the bank stays ground.
+  CHECK(ring4_ground(scan(1.6f)) == 20);
+}
+
+TEST_CASE("column profiles: over the sensor a run goes on across two dropped columns",
+          "[detector][profiles]") {
+  // Sim bank_s5 (tilted mounting): rings 0-3 climb a bank face at 0.35; ring 4 meets a tree
+  // crown on the bank's top over columns 20-29, with the sky on both sides, and drops
+  // columns 24-25 (foliage). Taken by the walk as the top's ground (a shoulder), the crown is
+  // one short run open to the sky at both ends over the sensor: it stands out whole. Under
+  // the sensor two dropped columns still cut a ring's run (real rings drop out on dark
+  // asphalt), so the same line 0.1 m under the sensor keeps its labels.
+  const auto crown_ground = [](float z) {
+    Scan s;
+    add_bank_rings(s, 4, 60);
+    for (int col = 20; col < 30; ++col) {
+      if (col != 24 && col != 25) add(s, 4, col, 22.f, z, 2);
+    }
+    return ground_on_ring(s, label(s, std::vector<float>(s.cloud.size(), 0.f)).ground, 4);
+  };
+  CHECK(crown_ground(2.6f) == 0);
+  CHECK(crown_ground(1.7f) == 8);
+}
+
+TEST_CASE("column profiles: the vehicle's road seen by any two consecutive rings is ground",
+          "[detector][profiles]") {
+  // Sim embankment_s304 (frame 1): behind the vehicle rings 0, 1 and 3 run on along the
+  // road, ring 2 meets it only over a short stretch between the kerbs' ends (here: between
+  // drop-outs), a short run open at both ends (rule 5). Ring 3 goes on level behind ring 2
+  // in the same columns, nothing between: the road going on, as for a column's first two
+  // ground returns.
+  const auto kept = [](float ring3_z) {
+    Scan s;
+    for (int col = 0; col <= 84; ++col) add(s, 0, col, 6.9f, 0.f, 1);
+    for (int col = 0; col <= 84; ++col) add(s, 1, col, 7.95f, 0.f, 1);
+    for (int col = 30; col <= 50; ++col) add(s, 2, col, 9.4f, 0.f, 1);
+    for (int col = 0; col <= 84; ++col) add(s, 3, col, 11.6f, ring3_z, 1);
+    const auto ground = label(s).ground;
+    int n = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) n += s.cloud.ring[i] == 2 ? ground[i] : 0;
+    return n;
+  };
+  CHECK(kept(0.f) == 21);
+  CHECK(kept(-0.35f) == 0);  // ring 3 not level with it: nothing vouches for ring 2
+}
