@@ -52,6 +52,15 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
     shadowed[points[k].index] = points[k].shadowed;
   }
   for (const RingRun& run : runs_) fill_shadows(cloud, run.a, run.b + 1, ground);
+  keep_past(strongest);
+}
+
+// This frame's points by column become the previous frame's (swapped, not copied: the next
+// frame's gather overwrites the buffers it gets back).
+void ColumnProfiles::keep_past(Index strongest_end) {
+  past_points_.swap(points_);
+  past_column_start_.swap(column_start_);
+  past_strongest_end_ = strongest_end;
 }
 
 // Counting sort by column into points_ (what the walk reads, gathered so that it reads

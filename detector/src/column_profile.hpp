@@ -136,6 +136,11 @@ struct ProfileParams {
   float run_gap_m = 0.3f, run_gap_per_m = 0.02f;
   float silhouette_max_m = 6.f;
   int sky_columns = 3;
+  // This frame is a fragment of a rotation going on from the previous frame labelled, a
+  // whole rotation that ended at the cut (consecutive, nothing between): a ring's run at the
+  // frame's first or last columns is judged with its part in the previous frame
+  // (stands_out_with_past).
+  bool continues_previous = false;
   // ... or, for a ring's ray rising over the sensor, the next return nearer still where the
   // ground it met there climbed from its column's last ground return more steeply than
   // face_over_ray x that ray (a bank's face): the ray would pass on beside that face only
@@ -311,6 +316,24 @@ class ColumnProfiles {
   [[nodiscard]] bool under_half_turn(const Cloud& cloud, std::size_t a, std::size_t b) const;
   void remove_silhouette(const Cloud& cloud, const RingRun& run, const RingRun* before);
   std::vector<RingRun> runs_;  // every ring's runs (strongest layer), in ring order
+  // The previous frame's points_ and column_start_, swapped out at the end of label (no
+  // copy), for a fragment going on from it (ProfileParams::continues_previous); and the end
+  // of its strongest layer's cloud points.
+  std::vector<ColumnPoint> past_points_;
+  std::vector<std::uint32_t> past_column_start_;
+  std::size_t past_strongest_end_ = 0;
+  void keep_past(std::size_t strongest_end);
+  // The previous frame's strongest return of `ring` in column c (kNone: none).
+  [[nodiscard]] std::size_t past_on_ring(int c, int ring) const;
+  [[nodiscard]] int past_columns() const {
+    return past_column_start_.empty() ? 0 : static_cast<int>(past_column_start_.size()) - 1;
+  }
+  // Whether the run ending at cloud point i goes on into the previous frame (going on to
+  // higher columns, or back across the cut) and ends open there; `extent` gets the length
+  // of the part there.
+  [[nodiscard]] bool past_part_open(const Cloud& cloud, std::size_t i, bool forward,
+                                    float& extent) const;
+  [[nodiscard]] bool stands_out_with_past(const Cloud& cloud, const RingRun& run) const;
 };
 
 // Shared by level 3's files (column_walk.cpp, ring_runs.cpp, ring_lines.cpp,

@@ -91,7 +91,10 @@ void ColumnProfiles::remove_silhouettes(const Cloud& cloud) {
     const RingRun* before = run.wrap != kNoRun ? &runs_[run.wrap] : nullptr;
     const Index outer_a = before != nullptr ? before->a : run.a;
     if (before != nullptr && !under_half_turn(cloud, before->a, run.b)) continue;
-    if (!stands_out(cloud, run.first, run.last, outer_a, run.b)) continue;
+    if (!stands_out(cloud, run.first, run.last, outer_a, run.b) &&
+        !stands_out_with_past(cloud, run)) {
+      continue;
+    }
     if (before != nullptr) mark_standing_out(*before);
     mark_standing_out(run);
   }
@@ -142,6 +145,92 @@ void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
     mark_standing_out(one);
     mark_standing_out(two);
   }
+}
+
+// A fragment of a rotation going on from the previous frame (continues_previous): the
+// previous frame saw the same azimuths a rotation earlier. A ring's run at the fragment's
+// first column goes on across the cut into that frame's last columns, and one at its last
+// column (the end of the data) into that frame's next columns, where the returns there are
+// continuous with it (kEdgeMotionSlack: the vehicle moved between them, as across a whole
+// rotation's edge). The whole stands out when it is short and opens onto the sky or
+// farther returns at both ends. Without this, an object straight ahead in a capture's last
+// frame (a fragment of 13-47 columns, cut straight ahead) never stood out (slope_s104).
+bool ColumnProfiles::stands_out_with_past(const Cloud& cloud, const RingRun& run) const {
+  if (!p_.continues_previous || run.wrap != kNoRun) return false;
+  const int columns = static_cast<int>(column_start_.size()) - 1;
+  // A run's end this close to the frame's edge is neither open (the sky) nor closed here.
+  const bool at_cut = run.a == run.first && cloud.column[run.a] < p_.sky_columns;
+  const bool at_end = run.b + 1 == run.last && columns - 1 - cloud.column[run.b] < p_.sky_columns;
+  if (!at_cut && !at_end) return false;
+  // Each end: open where it goes on into the previous frame, else as stands_out asks.
+  const auto end_opens = [&](Index end, bool after, float& part) {
+    if (after ? at_end : at_cut) return past_part_open(cloud, end, after, part);
+    int gap = 0;
+    const Index beyond = beyond_end(cloud, run.first, run.last, end, after, gap);
+    return end_open(cloud, end, beyond, gap);
+  };
+  float before = 0.f, after = 0.f;
+  if (!end_opens(run.a, false, before) || !end_opens(run.b, true, after)) return false;
+  const float extent = std::hypot(cloud.x[run.b] - cloud.x[run.a], cloud.y[run.b] - cloud.y[run.a]);
+  return before + extent + after <= p_.silhouette_max_m;
+}
+
+std::size_t ColumnProfiles::past_on_ring(int c, int ring) const {
+  for (Index k = past_column_start_[static_cast<Index>(c)];
+       k < past_column_start_[static_cast<Index>(c) + 1]; ++k) {
+    const ColumnPoint& q = past_points_[k];
+    if (q.ring == ring && q.index < past_strongest_end_) return k;
+  }
+  return kNone;
+}
+
+bool ColumnProfiles::past_part_open(const Cloud& cloud, Index i, bool forward,
+                                    float& extent) const {
+  const int columns = past_columns();
+  const int ring = cloud.ring[i];
+  const int step = forward ? 1 : -1;
+  // Where the run meets the previous frame: its return of the ring in the run's end
+  // column or up to run_column_gap before it (going on), or its last one before the cut
+  // (going back), within run_column_gap columns either way.
+  int c = forward ? cloud.column[i] - p_.run_column_gap : columns - 1;
+  Index k = kNone;
+  int gap = 0;
+  for (int tries = 0; tries <= 2 * p_.run_column_gap && k == kNone;
+       ++tries, c += forward ? 1 : -1) {
+    if (c < 0 || c >= columns) continue;
+    k = past_on_ring(c, ring);
+    gap = forward ? std::max(0, std::abs(c - cloud.column[i]) - 1)
+                  : columns - 1 - c + cloud.column[i];
+  }
+  if (k == kNone || gap > p_.run_column_gap) return false;
+  c -= forward ? 1 : -1;  // k's column
+  const float limit = kEdgeMotionSlack * run_gap(cloud.range_xy[i]);
+  const float dr = cloud.range_xy[i] - past_points_[k].r, dz = cloud.z[i] - past_points_[k].z;
+  if (dr * dr + dz * dz > limit * limit) return false;
+  // Along the previous frame's ring while continuous (mark_continuous's test).
+  const int start = c;
+  int empty = 0;  // columns without a return of the ring since k's
+  bool open = false;
+  for (int n = c + step; n >= 0 && n < columns && !open; n += step) {
+    const Index next = past_on_ring(n, ring);
+    if (next == kNone) {
+      open = ++empty >= p_.sky_columns;  // the sky
+      continue;
+    }
+    const ColumnPoint &u = past_points_[k], &w = past_points_[next];
+    const float near = run_gap(u.r), dr2 = w.r - u.r, dz2 = w.z - u.z;
+    if (empty >= p_.run_column_gap || dr2 * dr2 + dz2 * dz2 > near * near) {
+      if (w.r <= u.r + p_.run_gap_m) return false;  // a return as near or nearer: closed
+      open = true;                                  // one farther on: open
+      continue;
+    }
+    k = next, c = n, empty = 0;
+  }
+  if (!open) return false;  // the previous frame's data end inside the run
+  // The part's length along its arc (the previous frame a whole rotation of `columns`).
+  const float step_rad = 2.f * std::numbers::pi_v<float> / static_cast<float>(columns);
+  extent = past_points_[k].r * step_rad * static_cast<float>(std::abs(c - start));
+  return true;
 }
 
 // Marks run `run`'s returns as standing out.

@@ -5,6 +5,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "binning.hpp"
 #include "column_profile.hpp"
@@ -81,6 +82,8 @@ class TangentMethod final : public Method {
   }
 
   void detect(const Frame& frame, const Cloud& cloud, GroundResult& out) override {
+    continues_previous_ = continues_previous(frame.meta);
+    profiled_ = false;
     auto t = Clock::now();
     ring_facts(frame, cloud);  // Sec. III-A
     out.timings.tangents_ms = ms_since(t);
@@ -93,9 +96,21 @@ class TangentMethod final : public Method {
     choose_planes(found, cloud, out);
     label(cloud, out);
     out.timings.labelling_ms = ms_since(t);
+    const FrameMeta& m = frame.meta;
+    previous_ = PreviousFrame{m.sequence, m.last_time_ns, m.end, m.complete, profiled_};
   }
 
  private:
+  // Whether this frame is a fragment of a rotation going on from the previous frame's end at
+  // the cut: consecutive, the previous one a whole rotation that ended at the cut and whose
+  // column profiles ran (they keep its returns), no more than kCutGap_ns between them (a
+  // capture's last frame, cut straight ahead by the end of the data).
+  [[nodiscard]] bool continues_previous(const FrameMeta& m) const {
+    return !m.complete && previous_.has_value() && previous_->complete && previous_->profiled &&
+           previous_->end == FrameEnd::cut && m.sequence == previous_->sequence + 1 &&
+           m.first_time_ns - previous_->last_time_ns <= kCutGap_ns;
+  }
+
   // Tangents, steep flags and ring elevations.
   void ring_facts(const Frame& frame, const Cloud& cloud) {
     TangentParams tp;
@@ -309,6 +324,7 @@ class TangentMethod final : public Method {
   // Level 3: column profiles label every return. with_cells: level 2 ran (its surface and
   // the level-1 planes it kept check the profiles).
   void follow_columns(const Cloud& cloud, bool with_cells) {
+    profiled_ = true;
     ProfileParams pp;
     pp.sensor_x = origin_x_;
     pp.sensor_y = origin_y_;
@@ -317,6 +333,7 @@ class TangentMethod final : public Method {
     pp.label_up_m = label_up_;
     pp.label_down_m = label_down_;
     pp.steep_band_m = steep_up_;
+    pp.continues_previous = continues_previous_;
     // Heights over a level-1 plane that explains its cell (fitting area only).
     plane_height_.resize(cloud.size());
     const float none = std::nanf("");
@@ -388,6 +405,19 @@ class TangentMethod final : public Method {
   ColumnProfiles profiles_;
   std::vector<float> plane_height_;
   bool own_[4] = {false, false, false, false};
+  // The previous frame detected (continues_previous).
+  struct PreviousFrame {
+    std::uint64_t sequence;
+    std::int64_t last_time_ns;
+    FrameEnd end;
+    bool complete;
+    bool profiled;  // its column profiles ran
+  };
+  std::optional<PreviousFrame> previous_;
+  bool continues_previous_ = false, profiled_ = false;
+  // Consecutive frames cut at the same azimuth are a firing (55 us) apart; 1 ms allows for
+  // a few lost columns.
+  static constexpr std::int64_t kCutGap_ns = 1'000'000;
   std::vector<std::uint8_t> support_, ground_;
   std::vector<float> height_;
 };

@@ -78,15 +78,20 @@ struct Labels {
 // Labels a scan with the mounting height known, the level-2 surface having ground of its own
 // under return i where measured[i]; `level2` and `plane` default to a level-2 surface at
 // z = 0 and no trusted level-1 plane.
+// With `kept`, that instance labels the scan (it keeps the frame before); the scan is then a
+// fragment of a rotation going on from that frame when `continues_previous`.
 inline Labels label_by_cell(const Scan& s, std::vector<float> level2, std::vector<float> plane,
-                            const std::vector<bool>& measured) {
+                            const std::vector<bool>& measured, ColumnProfiles* kept = nullptr,
+                            bool continues_previous = false) {
   if (level2.empty()) level2.assign(s.cloud.size(), 0.f);
   if (plane.empty()) plane.assign(s.cloud.size(), std::nanf(""));
   std::vector<std::uint8_t> steep;
   mark_steep(s.cloud, steep);
   ProfileParams p;
   p.sensor_z = 1.8f;  // mounting height known: the ground under the sensor is z = 0
-  ColumnProfiles profiles;
+  p.continues_previous = continues_previous;
+  ColumnProfiles own;
+  ColumnProfiles& profiles = kept != nullptr ? *kept : own;
   Labels out;
   out.height = level2;  // heights over the level-2 surface on entry
   // A measured return in fitting bin 0, whose cell 0 is measured; the others in no bin.

@@ -1,5 +1,6 @@
 // Column profiles along the rings (docs/detector.md, "Column profiles", rules 5 and 7):
 // silhouettes, a ring across the frame's edge, lines along walls, shadows.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <utility>
@@ -270,4 +271,85 @@ TEST_CASE("column profiles: the vehicle's road seen by any two consecutive rings
   };
   CHECK(kept(0.f) == 21);
   CHECK(kept(-0.35f) == 0);  // ring 3 not level with it: nothing vouches for ring 2
+}
+
+namespace {
+
+// The returns of `s` in columns [0, end), in the cloud's order (by ring, then column): with
+// `end` short of the scan's columns, a capture's last frame, a fragment of the rotation after
+// the scan's, cut by the end of the data.
+Scan in_cloud_order(const Scan& s, int end = kColumns) {
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < s.cloud.size(); ++i) {
+    if (s.cloud.column[i] < end) order.push_back(i);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return s.cloud.ring[a] != s.cloud.ring[b] ? s.cloud.ring[a] < s.cloud.ring[b]
+                                              : s.cloud.column[a] < s.cloud.column[b];
+  });
+  Scan out;
+  for (const std::size_t i : order) {
+    add(out, s.cloud.ring[i], s.cloud.column[i], s.cloud.range_xy[i], s.cloud.z[i], s.truth[i]);
+  }
+  return out;
+}
+
+// Labels `scan` after `before` with one ColumnProfiles, the scan going on from it when
+// `continues`; no level-2 surface (the ring runs alone decide on the crate).
+Labels label_after(const Scan& before, const Scan& scan, bool continues) {
+  ColumnProfiles profiles;
+  const auto none = [](const Scan& s) { return std::vector<float>(s.cloud.size(), std::nanf("")); };
+  label_by_cell(before, none(before), none(before), std::vector<bool>(before.cloud.size(), false),
+                &profiles);
+  return label_by_cell(scan, none(scan), none(scan), std::vector<bool>(scan.cloud.size(), false),
+                       &profiles, continues);
+}
+
+// How many of the crate's returns (ring 11, columns from 200) the fragment labels ground.
+int crate_ground(const Scan& fragment, const Labels& labels) {
+  int ground = 0;
+  for (std::size_t i = 0; i < labels.ground.size(); ++i) {
+    if (fragment.cloud.ring[i] == 11 && fragment.cloud.column[i] >= 200) ground += labels.ground[i];
+  }
+  return ground;
+}
+
+}  // namespace
+
+TEST_CASE("column profiles: a run cut by the end of the data goes on in the frame before",
+          "[detector][profiles]") {
+  // make_scan's crate (ring 11, columns 200-205, 22.5 m out, the sky on both sides) stands
+  // out in a whole rotation; a capture's last frame ending at column 203 cuts its run. Ring
+  // 11 also meets a facade 30 m out in columns 0-10, so that the fragment's edge after the
+  // crate is no sky: the ring has returns across it.
+  Scan with_facade = make_scan();
+  for (int col = 0; col <= 10; ++col) add(with_facade, 11, col, 30.f, 3.f, 2);
+  const Scan whole = in_cloud_order(with_facade), fragment = in_cloud_order(with_facade, 203);
+  REQUIRE(crate_ground(fragment, label_after(whole, fragment, false)) == 3);  // nothing beyond
+  const Labels labels = label_after(whole, fragment, true);
+  CHECK(crate_ground(fragment, labels) == 0);  // beyond the end, in the frame before: the sky
+  // The road and the rings under the crate stay as they were (their runs are long).
+  const Labels alone = label_after(whole, fragment, false);
+  int changed = 0;
+  for (std::size_t i = 0; i < labels.ground.size(); ++i) {
+    const bool crate = fragment.cloud.ring[i] == 11 && fragment.cloud.column[i] >= 200;
+    changed += !crate && labels.ground[i] != alone.ground[i];
+  }
+  CHECK(changed == 0);
+
+  SECTION("an object longer than a silhouette in the frame before stays as the walk took it") {
+    Scan longer = with_facade;
+    for (int col = 206; col <= 220; ++col) add(longer, 11, col, 22.5f, 0.35f, 2);  // 8 m
+    CHECK(crate_ground(fragment, label_after(in_cloud_order(longer), fragment, true)) == 3);
+  }
+  SECTION("nor is it joined to a return of the frame before that is not continuous with it") {
+    Scan farther;
+    for (std::size_t i = 0; i < with_facade.cloud.size(); ++i) {
+      const bool crate = with_facade.cloud.ring[i] == 11 && with_facade.cloud.column[i] >= 200;
+      add(farther, with_facade.cloud.ring[i], with_facade.cloud.column[i],
+          crate ? 30.f : with_facade.cloud.range_xy[i], crate ? 0.f : with_facade.cloud.z[i],
+          with_facade.truth[i]);
+    }
+    CHECK(crate_ground(fragment, label_after(in_cloud_order(farther), fragment, true)) == 3);
+  }
 }
