@@ -92,7 +92,7 @@ void ColumnProfiles::remove_silhouettes(const Cloud& cloud) {
     const Index outer_a = before != nullptr ? before->a : run.a;
     if (before != nullptr && !under_half_turn(cloud, before->a, run.b)) continue;
     if (!stands_out(cloud, run.first, run.last, outer_a, run.b) &&
-        !stands_out_with_past(cloud, run)) {
+        !(p_.continues_previous && stands_out_with_past(cloud, run))) {
       continue;
     }
     if (before != nullptr) mark_standing_out(*before);
@@ -156,7 +156,7 @@ void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
 // farther returns at both ends. Without this, an object straight ahead in a capture's last
 // frame (a fragment of 13-47 columns, cut straight ahead) never stood out (slope_s104).
 bool ColumnProfiles::stands_out_with_past(const Cloud& cloud, const RingRun& run) const {
-  if (!p_.continues_previous || run.wrap != kNoRun) return false;
+  if (run.wrap != kNoRun) return false;
   const int columns = static_cast<int>(column_start_.size()) - 1;
   // A run's end this close to the frame's edge is neither open (the sky) nor closed here.
   const bool at_cut = run.a == run.first && cloud.column[run.a] < p_.sky_columns;
@@ -207,11 +207,18 @@ bool ColumnProfiles::past_part_open(const Cloud& cloud, Index i, bool forward,
   const float limit = kEdgeMotionSlack * run_gap(cloud.range_xy[i]);
   const float dr = cloud.range_xy[i] - past_points_[k].r, dz = cloud.z[i] - past_points_[k].z;
   if (dr * dr + dz * dz > limit * limit) return false;
-  // Along the previous frame's ring while continuous (mark_continuous's test).
+  // Along the previous frame's ring while continuous (mark_continuous's test), no farther
+  // than a silhouette's length along its arc (the previous frame a whole rotation of
+  // `columns`).
+  const float step_rad = 2.f * std::numbers::pi_v<float> / static_cast<float>(columns);
   const int start = c;
   int empty = 0;  // columns without a return of the ring since k's
   bool open = false;
   for (int n = c + step; n >= 0 && n < columns && !open; n += step) {
+    if (past_points_[k].r * step_rad * static_cast<float>(std::abs(n - start)) >
+        p_.silhouette_max_m) {
+      return false;
+    }
     const Index next = past_on_ring(n, ring);
     if (next == kNone) {
       open = ++empty >= p_.sky_columns;  // the sky
@@ -227,8 +234,6 @@ bool ColumnProfiles::past_part_open(const Cloud& cloud, Index i, bool forward,
     k = next, c = n, empty = 0;
   }
   if (!open) return false;  // the previous frame's data end inside the run
-  // The part's length along its arc (the previous frame a whole rotation of `columns`).
-  const float step_rad = 2.f * std::numbers::pi_v<float> / static_cast<float>(columns);
   extent = past_points_[k].r * step_rad * static_cast<float>(std::abs(c - start));
   return true;
 }
