@@ -56,10 +56,14 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
 }
 
 // This frame's points by column become the previous frame's (swapped, not copied: the next
-// frame's gather overwrites the buffers it gets back).
+// frame's gather overwrites the buffers it gets back). The buffers handed back grow with
+// the ones kept, so that each frame finds room as with one buffer (no allocation once the
+// largest frame has been seen).
 void ColumnProfiles::keep_past(Index strongest_end) {
   past_points_.swap(points_);
   past_column_start_.swap(column_start_);
+  points_.reserve(past_points_.size());
+  column_start_.reserve(past_column_start_.size());
   past_strongest_end_ = strongest_end;
 }
 

@@ -147,7 +147,12 @@ class GroundDetector {
   GroundDetector& operator=(GroundDetector&&) noexcept;
 
   /// Labels every cell of `frame` into `out`. No heap allocation after the first call for a
-  /// given frame capacity.
+  /// given frame capacity. Frames are labelled alone, but for one case: a frame that is a
+  /// fragment of a rotation (FrameMeta::complete false) going on from the frame detected
+  /// just before (the next sequence number, a whole rotation that ended at the cut) is
+  /// judged at its edges with that frame's returns (a capture's last frame; the tangent
+  /// method's column profiles). So give each sensor's frames, in order, to a detector of
+  /// its own.
   void detect(const Frame& frame, GroundResult& out);
 
   [[nodiscard]] const DetectorConfig& config() const;
