@@ -276,6 +276,11 @@ class ColumnProfiles {
   void mark_standing_out(const RingRun& run);
   // The run gap at horizontal range `range_m`: run_gap_m + run_gap_per_m x range.
   [[nodiscard]] float run_gap(float range_m) const { return p_.run_gap_m + p_.run_gap_per_m * range_m; }
+  // Whether a ring's next return at range beyond_m lies behind one at end_m (a run's end
+  // opening onto it).
+  [[nodiscard]] bool farther(float end_m, float beyond_m) const {
+    return beyond_m > end_m + p_.run_gap_m;
+  }
   [[nodiscard]] bool stopped_by_face(const Cloud& cloud, std::size_t end,
                                      std::size_t nearer) const;
   void add_to_profile(float r, float z);
@@ -325,9 +330,12 @@ class ColumnProfiles {
   void keep_past(std::size_t strongest_end);
   // The previous frame's strongest return of `ring` in column c (kNone: none).
   [[nodiscard]] std::size_t past_on_ring(int c, int ring) const;
-  [[nodiscard]] int past_columns() const {
-    return past_column_start_.empty() ? 0 : static_cast<int>(past_column_start_.size()) - 1;
+  // Columns of this frame and of the previous one (column starts hold one more entry).
+  [[nodiscard]] static int columns_of(const std::vector<std::uint32_t>& starts) {
+    return starts.empty() ? 0 : static_cast<int>(starts.size()) - 1;
   }
+  [[nodiscard]] int frame_columns() const { return columns_of(column_start_); }
+  [[nodiscard]] int past_columns() const { return columns_of(past_column_start_); }
   // Whether the run ending at cloud point i goes on into the previous frame (going on to
   // higher columns, or back across the cut) and ends open there; `extent` gets the length
   // of the part there.

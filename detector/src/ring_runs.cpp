@@ -14,9 +14,12 @@ using Index = std::size_t;
 namespace {
 // Whether returns a and b lie within `limit` of each other in horizontal range and height
 // (the run gap's test; mark_continuous does the same inline, vectorised).
-bool close_in_range_and_height(const Cloud& cloud, std::size_t a, std::size_t b, float limit) {
-  const float dr = cloud.range_xy[b] - cloud.range_xy[a], dz = cloud.z[b] - cloud.z[a];
+bool close_in_range_and_height(float dr, float dz, float limit) {
   return dr * dr + dz * dz <= limit * limit;
+}
+bool close_in_range_and_height(const Cloud& cloud, std::size_t a, std::size_t b, float limit) {
+  return close_in_range_and_height(cloud.range_xy[b] - cloud.range_xy[a], cloud.z[b] - cloud.z[a],
+                                   limit);
 }
 }  // namespace
 
@@ -51,7 +54,7 @@ void ColumnProfiles::find_ring_runs(const Cloud& cloud, Index strongest_end) {
 // times the run gap: the vehicle moved between the two ends of the rotation (0.6-0.7 m on a
 // ramp at 5 Hz, garage_s5; hills_s3).
 bool ColumnProfiles::continuous_across_edge(const Cloud& cloud, Index end, Index start) const {
-  const int columns = static_cast<int>(column_start_.size()) - 1;
+  const int columns = frame_columns();
   const int gap =
       static_cast<int>(cloud.column[start]) + columns - static_cast<int>(cloud.column[end]);
   const float limit = kEdgeMotionSlack * run_gap(cloud.range_xy[end]);
@@ -114,7 +117,7 @@ void ColumnProfiles::remove_silhouettes(const Cloud& cloud) {
 // Only under the sensor: a run met by rising rays may end in the sky where the terrain does
 // (a bank's top edge); a falling ray meets the sky only past terrain falling out of reach.
 void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
-  const int columns = static_cast<int>(column_start_.size()) - 1;
+  const int columns = frame_columns();
   for (std::size_t i = 0; i < runs_.size(); ++i) {
     const std::size_t j = next_run(i);
     if (j == kNoRun || runs_[i].wrap != kNoRun || runs_[j].wrap != kNoRun) continue;
@@ -157,7 +160,7 @@ void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
 // frame (a fragment of 13-47 columns, cut straight ahead) never stood out (slope_s104).
 bool ColumnProfiles::stands_out_with_past(const Cloud& cloud, const RingRun& run) const {
   if (run.wrap != kNoRun) return false;
-  const int columns = static_cast<int>(column_start_.size()) - 1;
+  const int columns = frame_columns();
   // A run's end this close to the frame's edge is neither open (the sky) nor closed here.
   const bool at_cut = run.a == run.first && cloud.column[run.a] < p_.sky_columns;
   const bool at_end = run.b + 1 == run.last && columns - 1 - cloud.column[run.b] < p_.sky_columns;
@@ -192,21 +195,21 @@ bool ColumnProfiles::past_part_open(const Cloud& cloud, Index i, bool forward,
   // Where the run meets the previous frame: its return of the ring in the run's end
   // column or up to run_column_gap before it (going on), or its last one before the cut
   // (going back), within run_column_gap columns either way.
-  int c = forward ? cloud.column[i] - p_.run_column_gap : columns - 1;
   Index k = kNone;
-  int gap = 0;
-  for (int tries = 0; tries <= 2 * p_.run_column_gap && k == kNone;
-       ++tries, c += forward ? 1 : -1) {
-    if (c < 0 || c >= columns) continue;
-    k = past_on_ring(c, ring);
-    gap = forward ? std::max(0, std::abs(c - cloud.column[i]) - 1)
-                  : columns - 1 - c + cloud.column[i];
+  int c = 0;  // k's column
+  for (int tries = 0; tries <= 2 * p_.run_column_gap && k == kNone; ++tries) {
+    c = forward ? cloud.column[i] - p_.run_column_gap + tries : columns - 1 - tries;
+    if (c >= 0 && c < columns) k = past_on_ring(c, ring);
   }
-  if (k == kNone || gap > p_.run_column_gap) return false;
-  c -= forward ? 1 : -1;  // k's column
-  const float limit = kEdgeMotionSlack * run_gap(cloud.range_xy[i]);
-  const float dr = cloud.range_xy[i] - past_points_[k].r, dz = cloud.z[i] - past_points_[k].z;
-  if (dr * dr + dz * dz > limit * limit) return false;
+  if (k == kNone) return false;
+  const int gap =
+      forward ? std::max(0, std::abs(c - cloud.column[i]) - 1) : columns - 1 - c + cloud.column[i];
+  if (gap > p_.run_column_gap ||
+      !close_in_range_and_height(cloud.range_xy[i] - past_points_[k].r,
+                                 cloud.z[i] - past_points_[k].z,
+                                 kEdgeMotionSlack * run_gap(cloud.range_xy[i]))) {
+    return false;
+  }
   // Along the previous frame's ring while continuous (mark_continuous's test), no farther
   // than a silhouette's length along its arc (the previous frame a whole rotation of
   // `columns`).
@@ -225,10 +228,10 @@ bool ColumnProfiles::past_part_open(const Cloud& cloud, Index i, bool forward,
       continue;
     }
     const ColumnPoint &u = past_points_[k], &w = past_points_[next];
-    const float near = run_gap(u.r), dr2 = w.r - u.r, dz2 = w.z - u.z;
-    if (empty >= p_.run_column_gap || dr2 * dr2 + dz2 * dz2 > near * near) {
-      if (w.r <= u.r + p_.run_gap_m) return false;  // a return as near or nearer: closed
-      open = true;                                  // one farther on: open
+    if (empty >= p_.run_column_gap ||
+        !close_in_range_and_height(w.r - u.r, w.z - u.z, run_gap(u.r))) {
+      if (!farther(u.r, w.r)) return false;  // a return as near or nearer: closed
+      open = true;                           // one farther on: open
       continue;
     }
     k = next, c = n, empty = 0;
@@ -266,7 +269,7 @@ std::size_t ColumnProfiles::next_run(std::size_t i) const {
 // half the frame's columns: its extent, the chord between its ends, then measures it (a ring
 // seen all around but for a gap has close ends too).
 bool ColumnProfiles::under_half_turn(const Cloud& cloud, Index a, Index b) const {
-  const int columns = static_cast<int>(column_start_.size()) - 1;
+  const int columns = frame_columns();
   const int span = static_cast<int>(cloud.column[b]) + columns - static_cast<int>(cloud.column[a]);
   return 2 * span < columns;
 }
@@ -348,7 +351,7 @@ bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Ind
 // ends of the rotation, so their ranges do not compare.
 std::size_t ColumnProfiles::beyond_end(const Cloud& cloud, Index first, Index last, Index end,
                                        bool after, int& gap) const {
-  const int columns = static_cast<int>(column_start_.size()) - 1;
+  const int columns = frame_columns();
   const int column = cloud.column[end];
   if (after ? end + 1 < last : end > first) {
     const Index beyond = after ? end + 1 : end - 1;
@@ -375,7 +378,7 @@ std::size_t ColumnProfiles::beyond_end(const Cloud& cloud, Index first, Index la
 // sky_columns) or onto a return behind it (farther away).
 bool ColumnProfiles::end_open(const Cloud& cloud, Index end, Index beyond, int gap) const {
   if (gap >= p_.sky_columns) return true;  // no return for a while: the sky
-  return beyond != kNone && (cloud.range_xy[beyond] > cloud.range_xy[end] + p_.run_gap_m ||
+  return beyond != kNone && (farther(cloud.range_xy[end], cloud.range_xy[beyond]) ||
                              stopped_by_face(cloud, end, beyond));
 }
 
