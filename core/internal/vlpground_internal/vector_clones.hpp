@@ -1,9 +1,13 @@
 // Internal to the project (never installed): include with
 // target_include_directories(<target> PRIVATE ${PROJECT_SOURCE_DIR}/core/internal).
 //
-// Builds a hot function twice, for the x86-64 baseline (SSE2) and for AVX2 + FMA
-// (x86-64-v3), picking one at load time (GCC function multi-versioning through ifunc).
-// The binary stays portable to any x86-64; machines from 2013 on get the wide version.
+// Builds a hot function three times, for the x86-64 baseline (SSE2), for AVX2 + FMA
+// (x86-64-v3) and for AVX-512 (x86-64-v4), picking one at load time (GCC function
+// multi-versioning through ifunc). The binary stays portable to any x86-64; machines from
+// 2013 on get the wide version. The AVX-512 version mostly gains the 32 vector registers:
+// the inlier scoring keeps more of its plane block, counts and thresholds in registers
+// where v3 spills them (docs/detector.md, "Speed"). v4 and v3 contract the same products
+// into FMAs: their labels are the same on all 3420 evaluation captures and the real ones.
 // `flatten` inlines the callees so that they too are built for each target.
 #pragma once
 
@@ -11,7 +15,8 @@
 // sanitizer build also tests the baseline version.
 #if defined(__x86_64__) && defined(__linux__) && defined(__GNUC__) && !defined(__clang__) && \
     !defined(VLPGROUND_NO_VECTOR_CLONES) && !defined(__SANITIZE_ADDRESS__)
-#define VLPGROUND_VECTOR_CLONES __attribute__((target_clones("arch=x86-64-v3", "default"), flatten))
+#define VLPGROUND_VECTOR_CLONES \
+  __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"), flatten))
 #else
 #define VLPGROUND_VECTOR_CLONES
 #endif
