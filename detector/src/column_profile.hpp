@@ -128,6 +128,9 @@ struct ProfileParams {
   // A steep return within steep_band_m of such a plane and this close to the profile is
   // the foot of a wall on ground the profile does not quite follow (a slope).
   float plane_foot_m = 0.5f;
+  // A steep return is no wall's foot where its column's lower ring met the same face more
+  // than this much lower (face_goes_on_below).
+  float face_below_m = 0.2f;
   // Runs along a ring: neighbours at most run_column_gap columns (one more where both lie
   // more than drop_m over the sensor) and run_gap_m + run_gap_per_m x range apart are
   // continuous; a run no longer than silhouette_max_m with both ends open (no return over
@@ -224,6 +227,7 @@ class ColumnProfiles {
   [[nodiscard]] bool climbs_on_level2(std::size_t k, std::size_t end, float step) const;
   [[nodiscard]] bool on_measured_level2(const ColumnPoint& q) const;
   [[nodiscard]] bool under_overhang(const ColumnPoint& q, const ColumnPoint& above) const;
+  [[nodiscard]] bool face_goes_on_below(std::size_t begin, std::size_t k) const;
   [[nodiscard]] bool under_level_overhang(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool past_hidden_top(float r, float last_r, float last_z) const;
   [[nodiscard]] bool climb_is_guess(float gradient, float advance) const;

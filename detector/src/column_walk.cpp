@@ -188,6 +188,23 @@ bool ColumnProfiles::on_measured_level2(const ColumnPoint& q) const {
 
 // Whether `above`, the column's next return (a higher ring), lies more than overhang_m
 // nearer than q and over q's ray at its distance.
+// Whether the column's next lower ring met the face that steep return k lies on, lower
+// down: more than face_below_m under k and steeply under it (the segment between them rises
+// more than 45 degrees, the steep test). A face's foot is its lowest point; where the face
+// goes on under a return, that return is no foot, level with the profile or not (a tree
+// trunk in a dip past a crest, whose lower ring met it 1.3 m lower: hills_s1005). The lower
+// return may be ground itself: then it is the foot, the face rising from it.
+bool ColumnProfiles::face_goes_on_below(Index begin, Index k) const {
+  const ColumnPoint& q = points_[k];
+  for (Index j = k; j > begin; --j) {
+    const ColumnPoint& below = points_[j - 1];
+    if (below.ring == q.ring) continue;  // the other layer's return of the same ring
+    const float drop = q.z - below.z;
+    return drop > p_.face_below_m && std::abs(q.r - below.r) < drop;
+  }
+  return false;
+}
+
 bool ColumnProfiles::under_overhang(const ColumnPoint& q, const ColumnPoint& above) const {
   if (above.ring == q.ring || above.r >= q.r - p_.overhang_m) return false;
   const float ray_z = p_.sensor_z + (q.z - p_.sensor_z) * (above.r / q.r);
@@ -334,6 +351,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       q.ground = (std::abs(over) < p_.steep_band_m && !guess_off && !climb_guessed) ||
                  (std::abs(plane_height[q.index]) < p_.steep_band_m &&
                   (std::abs(over) < p_.plane_foot_m || start_guessed));
+      if (q.ground != 0 && face_goes_on_below(begin, k)) q.ground = 0;
       const bool vetoed = under_a_ray(r, z, q.ring);
       if (q.ground != 0 && vetoed) q.ground = 0;
       // The foot of a wall off the profile's band (a post on a crowned road's shoulder): the

@@ -244,6 +244,40 @@ TEST_CASE("column profiles: a wall met by the column's lowest return over the st
   CHECK(labels(ramp, 8) == std::vector<int>{0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0});
 }
 
+TEST_CASE("column profiles: a return the face goes on under is no wall's foot",
+          "[detector][profiles]") {
+  // Sim hills_s1005 (frame 0, column 375): rings 0-3 on the vehicle's hill out to 11 m,
+  // rings 5-8 on a tree 36.4-37 m out standing in a dip past the crest, 3.7 m under the
+  // hill. Ring 6 lies on the hill's profile extrapolated (within the steep band), but ring 5
+  // met the same face 1.27 m lower. h: over the level-2 surface, which is the level-1 plane.
+  const std::vector<ColumnReturn> tree = {
+      {0, 6.69f, 0.158f, 0.031f},   {1, 7.66f, 0.181f, 0.023f},    {2, 8.99f, 0.201f, 0.001f},
+      {3, 11.09f, 0.191f, -0.077f}, {5, 36.42f, -1.242f, -0.043f}, {6, 36.58f, 0.025f, 1.23f},
+      {7, 36.72f, 1.3f, 2.51f},     {8, 36.98f, 2.585f, 3.802f}};
+  std::vector<float> plane;
+  for (const ColumnReturn& q : tree) plane.push_back(q.h);
+  CHECK(label_column(tree, plane) == std::vector<int>{1, 1, 1, 1, 0, 0, 0, 0});
+  // vlp16_1200rpm_productbyte21 (indoor, frame 1, 345.8 degrees): ring 0 on the floor
+  // 6.58 m out, ring 1 on a wall 0.18 m beyond it, 0.20 m up, where a level-1 plane passes
+  // (rule 1's plane clause took it); rings 2-4 on the wall. The floor return is the wall's
+  // foot, ring 1 no second one.
+  const std::vector<ColumnReturn> wall = {{0, 6.58f, -0.03f, 0.f},
+                                          {1, 6.76f, 0.171f, 0.2f},
+                                          {2, 6.76f, 0.414f, 0.44f},
+                                          {3, 6.76f, 0.656f, 0.69f},
+                                          {4, 6.72f, 0.901f, 0.93f}};
+  std::vector<float> plane_at_ring1(wall.size(), std::nanf(""));
+  plane_at_ring1[1] = 0.03f;
+  CHECK(label_column(wall, plane_at_ring1) == std::vector<int>{1, 0, 0, 0, 0});
+  // A wall at the top of a climb, its foot on the profile: the ring under the foot met the
+  // climb 0.25 m lower but 1.25 m nearer, not the face: the foot stands.
+  CHECK(label_column({{0, 5.f, 0.f, 0.f},
+                      {1, 6.25f, 0.25f, 0.f},
+                      {2, 7.5f, 0.5f, 0.f},
+                      {3, 7.5f, 1.1f, 0.6f},
+                      {4, 7.5f, 1.7f, 1.2f}}) == std::vector<int>{1, 1, 1, 0, 0});
+}
+
 TEST_CASE("column profiles: a return under the profile but above the last ground keeps rising",
           "[detector][profiles]") {
   // A hill's shoulder (sim hills, seed 4): the climb at 0.32 flattens to 0.2 between
