@@ -128,6 +128,10 @@ struct ProfileParams {
   // A steep return within steep_band_m of such a plane and this close to the profile is
   // the foot of a wall on ground the profile does not quite follow (a slope).
   float plane_foot_m = 0.5f;
+  // ... but the column's first return, over the start's level, only within this of it: a
+  // building's foot on a pavement 0.17-0.23 m up stands; a ramp's wall the lowest ring met
+  // higher over the vehicle's ground stands over ground it hides (garage_s603, garage_s907).
+  float first_foot_over_m = 0.25f;
   // A steep return is no wall's foot where its column's lower ring met the same face more
   // than this much lower (face_goes_on_below).
   float face_below_m = 0.2f;

@@ -343,14 +343,17 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // (or of a level-1 plane that explains its cell: the foot of a wall on a slope)
       // (before the column's first ground return the profile is only the start's guess;
       // but the column's first return over the start's level is no foot: the lowest ring
-      // met a wall over the ground it hides, the plane passing there by chance, garage_s105)
+      // met a wall over the ground it hides, the plane passing there by chance, garage_s105;
+      // within first_foot_over_m over the start it may be, a building's foot on a pavement)
       // Nor where the climb is only a guess (a shed's wall on a bank top the rings never
       // see, where the bank's slope extrapolated runs into it).
       const bool climb_guessed = climb_is_guess(gradient, advance);
-      const bool start_guessed = profile_size_ == 1 && (k != begin || over <= 0.f);
+      const bool first_over_start = profile_size_ == 1 && k == begin && over > 0.f;
+      const bool start_guessed = profile_size_ == 1 && !first_over_start;
+      const float foot_m = first_over_start ? p_.first_foot_over_m : p_.plane_foot_m;
       q.ground = (std::abs(over) < p_.steep_band_m && !guess_off && !climb_guessed) ||
                  (std::abs(plane_height[q.index]) < p_.steep_band_m &&
-                  (std::abs(over) < p_.plane_foot_m || start_guessed));
+                  (std::abs(over) < foot_m || start_guessed));
       if (q.ground != 0 && face_goes_on_below(begin, k)) q.ground = 0;
       const bool vetoed = under_a_ray(r, z, q.ring);
       if (q.ground != 0 && vetoed) q.ground = 0;

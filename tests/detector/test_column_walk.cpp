@@ -242,6 +242,26 @@ TEST_CASE("column profiles: a wall met by the column's lowest return over the st
   ramp.push_back({9, 23.3f, 3.171f, 0.77f});
   ramp.push_back({10, 23.17f, 3.976f, 1.58f});
   CHECK(labels(ramp, 8) == std::vector<int>{0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0});
+  // Sim garage_s907_5hz (frame 3, column 3305): rings 0-4 on a ramp's wall 6.2 m out, ring
+  // 0 only 0.28 m over the vehicle's ground (0.67 m over the hidden foot), within the 0.5 m
+  // the plane clause allows elsewhere; rings 5-7 on the street beyond.
+  CHECK(labels({{0, 6.2f, 0.279f, 0.06f},
+                {1, 6.2f, 0.506f, 0.355f},
+                {2, 6.18f, 0.735f, 0.583f},
+                {3, 6.21f, 0.951f, 0.799f},
+                {4, 6.19f, 1.173f, 1.021f},
+                {5, 15.75f, 0.554f, 0.f},
+                {6, 22.02f, 0.776f, 0.003f},
+                {7, 36.73f, 1.288f, -0.001f}},
+               0) == std::vector<int>{0, 0, 0, 0, 0, 1, 1, 1});
+  // Sim urban_s1_hires (frame 1, column 313): a building's foot on a pavement 0.18 m over
+  // the road, met by ring 0 (Hi-Res, 10 m out), its face above: the foot stands.
+  CHECK(labels({{0, 10.16f, 0.18f, 0.017f},
+                {1, 10.17f, 0.42f, 0.256f},
+                {2, 10.14f, 0.664f, 0.501f},
+                {3, 10.17f, 0.899f, 0.735f},
+                {4, 10.16f, 1.136f, 0.973f}},
+               0) == std::vector<int>{1, 0, 0, 0, 0});
 }
 
 TEST_CASE("column profiles: a return the face goes on under is no wall's foot",
