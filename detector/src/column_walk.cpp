@@ -186,8 +186,6 @@ bool ColumnProfiles::on_measured_level2(const ColumnPoint& q) const {
   return std::abs(q.level2_h) <= p_.plane_band_m && level2_.measured(q.index);
 }
 
-// Whether `above`, the column's next return (a higher ring), lies more than overhang_m
-// nearer than q and over q's ray at its distance.
 // Whether the column's next lower ring met the face that steep return k lies on, lower
 // down: more than face_below_m under k and steeply under it (the segment between them rises
 // more than 45 degrees, the steep test). A face's foot is its lowest point; where the face
@@ -205,6 +203,8 @@ bool ColumnProfiles::face_goes_on_below(Index begin, Index k) const {
   return false;
 }
 
+// Whether `above`, the column's next return (a higher ring), lies more than overhang_m
+// nearer than q and over q's ray at its distance.
 bool ColumnProfiles::under_overhang(const ColumnPoint& q, const ColumnPoint& above) const {
   if (above.ring == q.ring || above.r >= q.r - p_.overhang_m) return false;
   const float ray_z = p_.sensor_z + (q.z - p_.sensor_z) * (above.r / q.r);
