@@ -130,6 +130,14 @@ inline std::vector<int> label_column(const std::vector<ColumnReturn>& column,
   return {out.ground.begin(), out.ground.end()};
 }
 
+// Labels of a column where the level-1 plane lies where the level-2 surface does (every
+// return's height over the plane is its h).
+inline std::vector<int> label_column_on_plane(const std::vector<ColumnReturn>& column) {
+  std::vector<float> plane;
+  for (const ColumnReturn& q : column) plane.push_back(q.h);
+  return label_column(column, std::move(plane));
+}
+
 // Ground at 6 m, a car side at 8 m (rings 1-3), then ring 4 at (r, z).
 inline Scan car_then(float r, float z, int truth) {
   Scan s;

@@ -196,9 +196,7 @@ TEST_CASE("column profiles: a return a ring between it and the last ground retur
                                           {2, 5.2f, 0.538f, 0.28f},   {3, 5.22f, 0.722f, 0.46f},
                                           {4, 5.2f, 0.913f, 0.65f},   {5, 16.53f, 0.782f, 0.f},
                                           {6, 25.1f, 1.142f, 0.f}};
-  std::vector<float> on_plane;  // the level-1 plane where the level-2 surface lies
-  for (const ColumnReturn& q : wall) on_plane.push_back(q.h);
-  CHECK(label_column(wall, on_plane) == std::vector<int>{0, 0, 0, 0, 0, 1, 1});
+  CHECK(label_column_on_plane(wall) == std::vector<int>{0, 0, 0, 0, 0, 1, 1});
   // A level road whose ring 2 dropped out (as a real sensor does on dark asphalt over whole
   // stretches of columns: vlp16_outdoor_600rpm): a ring gone to the sky only vetoes a climb.
   CHECK(label_column(
@@ -274,9 +272,7 @@ TEST_CASE("column profiles: a return the face goes on under is no wall's foot",
       {0, 6.69f, 0.158f, 0.031f},   {1, 7.66f, 0.181f, 0.023f},    {2, 8.99f, 0.201f, 0.001f},
       {3, 11.09f, 0.191f, -0.077f}, {5, 36.42f, -1.242f, -0.043f}, {6, 36.58f, 0.025f, 1.23f},
       {7, 36.72f, 1.3f, 2.51f},     {8, 36.98f, 2.585f, 3.802f}};
-  std::vector<float> plane;
-  for (const ColumnReturn& q : tree) plane.push_back(q.h);
-  CHECK(label_column(tree, plane) == std::vector<int>{1, 1, 1, 1, 0, 0, 0, 0});
+  CHECK(label_column_on_plane(tree) == std::vector<int>{1, 1, 1, 1, 0, 0, 0, 0});
   // vlp16_1200rpm_productbyte21 (indoor, frame 1, 345.8 degrees): ring 0 on the floor
   // 6.58 m out, ring 1 on a wall 0.18 m beyond it, 0.20 m up, where a level-1 plane passes
   // (rule 1's plane clause took it); rings 2-4 on the wall. The floor return is the wall's
