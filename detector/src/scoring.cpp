@@ -19,8 +19,10 @@ namespace {
 
 using Index = std::size_t;
 
-// Hypotheses per block: one AVX2 vector of 8 lanes.
-constexpr Index kBlock = 8;
+// Hypotheses per block: one AVX-512 vector of 16 float lanes (two AVX2 vectors). With 8, the
+// AVX-512 build used half of each vector: the inliers stage took 0.28 ms on flat, 0.18 ms
+// with 16 (detector_bench); the AVX2 build runs 1.5 % more instructions (callgrind).
+constexpr Index kBlock = 16;
 
 struct Kernel {
   const float *x, *y, *z, *tx, *ty, *tz;
