@@ -19,10 +19,11 @@ namespace {
 
 using Index = std::size_t;
 
-// Hypotheses per block: one AVX-512 vector of 16 float lanes (two AVX2 vectors). With 8, the
-// AVX-512 build used half of each vector: the inliers stage took 0.28 ms on flat, 0.18 ms
-// with 16 (detector_bench); the AVX2 build runs 1.5 % more instructions (callgrind).
-constexpr Index kBlock = 16;
+// Hypotheses per block: one vector of float lanes of the build that runs, 16 for AVX-512 and
+// 8 for AVX2 (and the baseline). With 8 the AVX-512 build used half of each vector (inliers
+// stage 0.27 -> 0.17 ms with 16); with 16 the AVX2 build ran 13-18 % slower (two vectors per
+// block, more spills). detector_bench, docs/detector.md "Speed".
+constexpr Index kWideBlock = 16, kNarrowBlock = 8;
 
 struct Kernel {
   const float *x, *y, *z, *tx, *ty, *tz;
@@ -36,8 +37,8 @@ struct Kernel {
 // same float operations as score_reference. Inliers and returns under the plane are counted
 // apart and weighed once per block (integers: exact in any order); |v| is fabs, which only
 // differs from v < 0 ? -v : v on -0, and compares the same.
-VLPGROUND_VECTOR_CLONES
-void score_all(const Kernel q, const ScoreParams p, std::int32_t* __restrict scores) {
+template <Index kBlock>
+inline void score_blocks(const Kernel q, const ScoreParams p, std::int32_t* __restrict scores) {
   // Block by block over every slot: the block's plane coefficients stay in registers while
   // all the candidates stream past, slot by slot.
   for (Index m0 = 0; m0 < q.m_count; m0 += kBlock) {
@@ -64,22 +65,43 @@ void score_all(const Kernel q, const ScoreParams p, std::int32_t* __restrict sco
   }
 }
 
+// One build per block size, each cloned per target (`flatten` inlines score_blocks).
+VLPGROUND_VECTOR_CLONES
+void score_all_narrow(const Kernel q, const ScoreParams p, std::int32_t* __restrict scores) {
+  score_blocks<kNarrowBlock>(q, p, scores);
+}
+VLPGROUND_VECTOR_CLONES
+void score_all_wide(const Kernel q, const ScoreParams p, std::int32_t* __restrict scores) {
+  score_blocks<kWideBlock>(q, p, scores);
+}
+
 }  // namespace
 
 void SlotScorer::score(const Candidates& c, const PlaneSet& planes, const ScoreParams& params,
                        std::vector<std::int32_t>& scores) {
+  score_in_blocks(c, planes, params, avx512_clones_run(), scores);
+}
+
+void SlotScorer::score_in_blocks(const Candidates& c, const PlaneSet& planes,
+                                 const ScoreParams& params, bool wide,
+                                 std::vector<std::int32_t>& scores) {
   const Index m_count = planes.size();
   padded_.clear();
   for (Index m = 0; m < m_count; ++m) padded_.push(planes.at(m));
   // A padding plane lies far under every candidate: never an inlier, never above one.
-  while (padded_.size() % kBlock != 0) padded_.push(Plane{0.f, 0.f, 1.f, 1e30f});
+  const Index block = wide ? kWideBlock : kNarrowBlock;
+  while (padded_.size() % block != 0) padded_.push(Plane{0.f, 0.f, 1.f, 1e30f});
   scores.resize(c.slots() * m_count);
   if (m_count == 0) return;
   const Kernel q{
       c.x.data(),        c.y.data(),       c.z.data(), c.tx.data(),       c.ty.data(),
       c.tz.data(),       c.start.data(),   c.slots(),  padded_.nx.data(), padded_.ny.data(),
       padded_.nz.data(), padded_.d.data(), m_count};
-  score_all(q, params, scores.data());
+  if (block == kWideBlock) {
+    score_all_wide(q, params, scores.data());
+  } else {
+    score_all_narrow(q, params, scores.data());
+  }
 }
 
 void score_reference(const Candidates& c, const PlaneSet& planes, const ScoreParams& params,

@@ -31,8 +31,12 @@ struct ScoreParams {
 /// counts stay in vector registers while a slot's candidates stream past.
 class SlotScorer {
  public:
+  // In blocks of the running build's vector width (16 planes for AVX-512, else 8).
   void score(const Candidates& c, const PlaneSet& planes, const ScoreParams& params,
              std::vector<std::int32_t>& scores);
+  // The same in blocks of `wide` ? 16 : 8 planes, whichever build runs (for tests).
+  void score_in_blocks(const Candidates& c, const PlaneSet& planes, const ScoreParams& params,
+                       bool wide, std::vector<std::int32_t>& scores);
 
  private:
   PlaneSet padded_;  // planes padded to whole blocks with planes that never score

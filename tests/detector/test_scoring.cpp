@@ -61,11 +61,16 @@ TEST_CASE("blocked slot scores equal the per-point eq. 3 rule", "[detector][scor
     Candidates c;
     PlaneSet p;
     random_input(static_cast<std::uint64_t>(planes), 60, planes, c, p);
-    std::vector<std::int32_t> fast, plain;
+    std::vector<std::int32_t> fast, plain, narrow, wide;
     scorer.score(c, p, params, fast);
     score_reference(c, p, params, plain);
     REQUIRE(fast.size() == plain.size());
     CHECK(fast == plain);
+    // Both block sizes, whichever the CPU picks.
+    scorer.score_in_blocks(c, p, params, false, narrow);
+    scorer.score_in_blocks(c, p, params, true, wide);
+    CHECK(narrow == plain);
+    CHECK(wide == plain);
     for (std::int32_t v : plain) (v > 0 ? positive : negative) += v;
   }
   CHECK(positive > 0);

@@ -17,6 +17,21 @@
     !defined(VLPGROUND_NO_VECTOR_CLONES) && !defined(__SANITIZE_ADDRESS__)
 #define VLPGROUND_VECTOR_CLONES \
   __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"), flatten))
+#endif
+
+namespace vlpground::detail {
+/// Whether the AVX-512 (x86-64-v4) builds of VLPGROUND_VECTOR_CLONES functions are the ones
+/// that run here: the same test as the load-time pick.
+inline bool avx512_clones_run() {
+#ifdef VLPGROUND_VECTOR_CLONES
+  static const bool v4 = __builtin_cpu_supports("x86-64-v4");
+  return v4;
 #else
+  return false;
+#endif
+}
+}  // namespace vlpground::detail
+
+#ifndef VLPGROUND_VECTOR_CLONES
 #define VLPGROUND_VECTOR_CLONES
 #endif
