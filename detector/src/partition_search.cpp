@@ -127,7 +127,7 @@ std::pair<std::array<Acc, 4>, std::array<Acc, 4>> step_two_centres(
 // under T, like any segment whose best is under T, which is worth 0 and no ground whatever
 // its best, so the padding changes no decision. With T = 0 it would: no padding.
 Index hypothesis_stride(const SearchInput& in) {
-  constexpr Index kLanes = 32;
+  constexpr Index kLanes = kWidestVectorBytes / sizeof(std::int16_t);
   const Index m = idx(in.hypotheses);
   return in.min_segment_score >= 1 ? (m + kLanes - 1) / kLanes * kLanes : m;
 }

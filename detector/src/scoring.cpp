@@ -23,7 +23,8 @@ using Index = std::size_t;
 // 8 for AVX2 (and the baseline). With 8 the AVX-512 build used half of each vector (inliers
 // stage 0.27 -> 0.17 ms with 16); with 16 the AVX2 build ran 13-18 % slower (two vectors per
 // block, more spills). detector_bench, docs/detector.md "Speed".
-constexpr Index kWideBlock = 16, kNarrowBlock = 8;
+constexpr Index kWideBlock = kWidestVectorBytes / sizeof(float);
+constexpr Index kNarrowBlock = kAvx2VectorBytes / sizeof(float);
 
 struct Kernel {
   const float *x, *y, *z, *tx, *ty, *tz;

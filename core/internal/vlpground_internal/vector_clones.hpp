@@ -19,7 +19,13 @@
   __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"), flatten))
 #endif
 
+#include <cstddef>
+
 namespace vlpground::detail {
+/// Bytes per vector of the widest build (AVX-512) and of the AVX2 one: kernels size their
+/// blocks and paddings from these.
+inline constexpr std::size_t kWidestVectorBytes = 64, kAvx2VectorBytes = 32;
+
 /// Whether the AVX-512 (x86-64-v4) builds of VLPGROUND_VECTOR_CLONES functions are the ones
 /// that run here: the same test as the load-time pick.
 inline bool avx512_clones_run() {
