@@ -95,10 +95,12 @@ struct ProfileParams {
   // several rings; a fence or a box side is one ring line), or when it is at most half of
   // this over the ground return before it or over the chord joining the ground returns
   // before and after it (then the level-2 surface is what is off), or when it lies over the
-  // sensor on a ring run at least rise_run_min_m long where the level-2 surface has no
-  // ground of its own (terrain climbing over the sensor, met by one ring far out where the
-  // cells only extrapolate; an object on a bank's top or a tree crown is a shorter run: at
-  // 8 m, bank_s603_tilt took a shed's top; at 12 m, hills_s603 lost most of the gain).
+  // sensor, or is the column's first return, on a ring run at least rise_run_min_m long
+  // where the level-2 surface has no ground of its own (terrain climbing over the sensor,
+  // met by one ring far out where the cells only extrapolate; the street over a ramp's
+  // parapet met by the lowest ring past everything; an object on a bank's top or a tree
+  // crown is a shorter run: at 8 m, bank_s603_tilt took a shed's top; at 12 m, hills_s603
+  // lost most of the gain).
   float single_rise_m = 0.3f;
   float rise_run_min_m = 10.f;
   // A return that bent the profile's gradient up by more than kink_gradient (a kink: hills

@@ -244,14 +244,19 @@ void ColumnProfiles::check_single_rises(const Cloud& cloud, Index begin, Index e
       // On or under the chord joining the ground returns before and after it, it is no
       // bump in the column (a fence line stands over that chord by its height).
       const bool on_chord = both && over_chord <= 0.5f * p_.single_rise_m;
-      // Over the sensor, where level 2 only extrapolates, a long ring run is the terrain
-      // climbing on (the cells lag it), not an object standing on it.
-      const auto climbing_run = [&] {
+      // Where level 2 only extrapolates, a long ring run is terrain that the cells lag or
+      // guess wrong, not an object standing on it: over the sensor, the terrain climbing on;
+      // as the column's first return, met by its lowest ring past everything else, the
+      // street seen over a ramp's parapet from a vehicle pitched on the ramp, 2.9 m under
+      // the ramp's plane and 3.1 m over the level-2 surface extrapolated down the ramp's
+      // upper bend (garage_s1505 Hi-Res). An object's top is a short run: a tree top in a
+      // valley met by ring 0 over a crest (hills_s1204 Hi-Res).
+      const auto terrain_run = [&] {
         const ColumnPoint& q = points_[k];
-        return q.z >= p_.sensor_z && !level2_.measured(q.index) &&
+        return (q.z >= p_.sensor_z || k == begin) && !level2_.measured(q.index) &&
                on_ring_run_of(cloud, q.index, p_.rise_run_min_m);
       };
-      if (!before && !after && !level && !on_chord && !climbing_run()) {
+      if (!before && !after && !level && !on_chord && !terrain_run()) {
         points_[k].ground = 0;
         // Under the ground the vehicle stands on, the ring may still take it (fill_shadows):
         // terrain falling away (a levee's side grazed by a ring) runs on along the ring from

@@ -127,6 +127,43 @@ TEST_CASE("column profiles: a single rise over the sensor on a long ring run is 
   CHECK(!ring8_ground(60, 1.7f, false));    // under the sensor (1.8 m)
 }
 
+TEST_CASE("column profiles: a column's first return on a long ring run is the terrain",
+          "[detector][profiles]") {
+  // Sim garage_s1505 Hi-Res (frame 3, column 780): the vehicle pitched on a ramp's upper
+  // bend; its lowest ring passes over the parapet behind it to the street 26.9 m out, 2.87 m
+  // under the ramp's plane and 3.09 m over the level-2 surface, which only extrapolates the
+  // bend there (no ground of its own); the next rings meet a facade 37 m out. The same column
+  // repeats over `columns` degrees (0.47 m a column at 26.9 m). With a car side next to the
+  // sensor, the street's return is not the column's first. Returns whether the street's
+  // return is ground in the middle column.
+  const auto street_ground = [](int columns, bool measured, bool car_in_front) {
+    Scan s;
+    std::vector<float> level2;
+    std::vector<bool> measured_by_point;
+    const int street = car_in_front ? 3 : 0;
+    const auto add_all = [&](int ring, float r, float z, int truth, float h) {
+      for (int col = 0; col < columns; ++col) {
+        add(s, ring, col, r, z, truth);
+        level2.push_back(h);
+        measured_by_point.push_back(ring != street || measured);
+      }
+    };
+    if (car_in_front) {
+      for (int ring = 0; ring < street; ++ring)
+        add_all(ring, 4.5f, 0.4f + 0.3f * static_cast<float>(ring), 2, 0.4f);
+    }
+    add_all(street, 26.94f, -2.87f, 1, 3.09f);
+    for (int ring = street + 1; ring < street + 6; ++ring)  // the facade
+      add_all(ring, 37.f, -2.86f + 0.86f * static_cast<float>(ring - street - 1), 2, 3.f);
+    const Labels out = label_by_cell(s, level2, {}, measured_by_point);
+    return out.ground[static_cast<std::size_t>(street * columns + columns / 2)] == 1;
+  };
+  CHECK(street_ground(60, false, false));   // a run of 28 m
+  CHECK(!street_ground(18, false, false));  // 8 m: an object's top (a tree top in a valley)
+  CHECK(!street_ground(60, true, false));   // the level-2 surface has ground there
+  CHECK(!street_ground(60, false, true));   // past a car: not what the lowest ring met first
+}
+
 TEST_CASE("column profiles: a return on the chord of its column's ground is no single rise",
           "[detector][profiles]") {
   // A valley's far side (sim hills, seed 4): ring 6 is 0.35 m over a level-2 cell that is
