@@ -282,6 +282,10 @@ class ColumnProfiles {
   void follow_wall_lines(const Cloud& cloud, const RingRun& run, bool forward);
   [[nodiscard]] bool high_on_face(const Cloud& cloud, std::size_t k) const;
   void mark_broken_silhouettes(const Cloud& cloud);
+  void mark_hidden_silhouettes(const Cloud& cloud);
+  [[nodiscard]] bool level_with_start(const RingRun& run) const;
+  [[nodiscard]] bool hidden_by_object(const Cloud& cloud, std::size_t bound, std::size_t end,
+                                      std::size_t beyond, int gap, bool after) const;
   [[nodiscard]] std::size_t next_run(std::size_t i) const;
   void mark_standing_out(const RingRun& run);
   // The run gap at horizontal range `range_m`: run_gap_m + run_gap_per_m x range.

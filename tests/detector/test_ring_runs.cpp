@@ -353,3 +353,40 @@ TEST_CASE("column profiles: a run cut by the end of the data goes on in the fram
     CHECK(crate_ground(fragment, label_after(in_cloud_order(farther), fragment, true)) == 3);
   }
 }
+
+TEST_CASE("column profiles: a short run hidden at one end by an object in front stands out",
+          "[detector][profiles]") {
+  // Sim slope_s1201 at 20 Hz (frame 2): ring 6 meets a box 30.8 m out, 0.24 m over the
+  // vehicle's plateau, past a grade change where the slope falls away: the sky before it,
+  // and after it a nearer box 16 m out (standing out), past which the ring lands 60 m out.
+  // Rings 0-5 see the plateau level to 20 m.
+  struct Ring6 {
+    float far_z = 0.24f;  // the far box's top
+    float past_r = 60.f;  // where the ring lands past the near box
+    float past_z = -2.f;
+  };
+  const auto far_box_ground = [](const Ring6& ring6) {
+    Scan s;
+    const float r[] = {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f};
+    for (int ring = 0; ring < 6; ++ring) {
+      for (int col = 0; col <= 60; ++col) add(s, ring, col, r[ring], 0.f, 1);
+    }
+    for (int col = 15; col <= 22; ++col) add(s, 6, col, 30.8f, ring6.far_z, 2);
+    for (int col = 24; col <= 38; ++col) add(s, 6, col, 16.f, 1.f, 2);
+    for (int col = 39; col <= 60; ++col) add(s, 6, col, ring6.past_r, ring6.past_z, 1);
+    std::vector<float> level2(s.cloud.size(), 0.f);
+    for (std::size_t i = 0; i < level2.size(); ++i) level2[i] = s.cloud.z[i];
+    const auto ground = label(s, level2).ground;
+    int far = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      far += s.cloud.ring[i] == 6 && s.cloud.column[i] <= 22 ? ground[i] : 0;
+    }
+    return far;
+  };
+  CHECK(far_box_ground({}) == 0);
+  // The ring comes out behind the near box where it went in: terrain passing behind a tree
+  // trunk (hills_s1802 at 20 Hz), which the trunk only hides.
+  CHECK(far_box_ground({.past_r = 30.9f, .past_z = 0.25f}) == 8);
+  // Level with the ground under the vehicle: the road between two parked cars (jam).
+  CHECK(far_box_ground({.far_z = 0.05f}) == 8);
+}
