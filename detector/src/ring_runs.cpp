@@ -170,8 +170,7 @@ void ColumnProfiles::mark_hidden_silhouettes(const Cloud& cloud) {
     bool added = false;
     for (const RingRun& run : runs_) {
       if (run.wrap != kNoRun || stands_out_[run.a] != 0 || cloud.z[run.a] >= p_.sensor_z ||
-          cloud.z[run.b] >= p_.sensor_z || apart(cloud, run.a, run.b, p_.silhouette_max_m) ||
-          level_with_start(run)) {
+          cloud.z[run.b] >= p_.sensor_z || apart(cloud, run.a, run.b, p_.silhouette_max_m)) {
         continue;
       }
       int gap_a = 0, gap_b = 0;
@@ -181,7 +180,7 @@ void ColumnProfiles::mark_hidden_silhouettes(const Cloud& cloud) {
                            hidden_by_object(cloud, run.last, run.b, after, gap_b, true)) ||
                           (hidden_by_object(cloud, run.first, run.a, before, gap_a, false) &&
                            end_open(cloud, run.b, after, gap_b));
-      if (!hidden) continue;
+      if (!hidden || level_with_start(run)) continue;  // walked only for a hidden run
       mark_standing_out(run);
       added = true;
     }

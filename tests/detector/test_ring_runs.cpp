@@ -374,9 +374,7 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
     for (int col = 15; col <= 22; ++col) add(s, 6, col, 30.8f, ring6.far_z, 2);
     for (int col = 24; col <= 38; ++col) add(s, 6, col, 16.f, 1.f, 2);
     for (int col = 39; col <= 60; ++col) add(s, 6, col, ring6.past_r, ring6.past_z, 1);
-    std::vector<float> level2(s.cloud.size(), 0.f);
-    for (std::size_t i = 0; i < level2.size(); ++i) level2[i] = s.cloud.z[i];
-    const auto ground = label(s, level2).ground;
+    const auto ground = label(s, s.cloud.z).ground;  // the level-2 surface at z = 0
     int far = 0;
     for (std::size_t i = 0; i < ground.size(); ++i) {
       far += s.cloud.ring[i] == 6 && s.cloud.column[i] <= 22 ? ground[i] : 0;
