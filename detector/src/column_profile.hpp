@@ -282,6 +282,11 @@ class ColumnProfiles {
   void follow_wall_lines(const Cloud& cloud, const RingRun& run, bool forward);
   [[nodiscard]] bool high_on_face(const Cloud& cloud, std::size_t k) const;
   void mark_broken_silhouettes(const Cloud& cloud);
+  void mark_chained_silhouettes(const Cloud& cloud);
+  [[nodiscard]] bool joined_across_small_cut(const Cloud& cloud, std::size_t i) const;
+  [[nodiscard]] bool runs_raised(std::size_t i, std::size_t j) const;
+  [[nodiscard]] bool chain_open(const Cloud& cloud, const RingRun& first,
+                                const RingRun& last) const;
   void mark_hidden_silhouettes(const Cloud& cloud);
   [[nodiscard]] bool level_with_start(const RingRun& run) const;
   [[nodiscard]] bool hidden_by_object(const Cloud& cloud, std::size_t bound, std::size_t end,

@@ -388,3 +388,44 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
   // Level with the ground under the vehicle: the road between two parked cars (jam).
   CHECK(far_box_ground({.far_z = 0.05f}) == 8);
 }
+
+TEST_CASE("column profiles: a ring line small cuts broke into parts stands out whole",
+          "[detector][profiles]") {
+  // Sim hills_s2104 (frame 1): past a crest, ring 6 meets a tree crown 27 m out, level with
+  // the vehicle's ground and 2.3 m over the valley floor the rings never see; its foliage
+  // drops columns, so its ring line comes in parts that neither meet the sky where cut nor
+  // stand out alone. Rings 0-5 see the plateau level to 20 m.
+  struct Crown {
+    float step_in_m = 0.f;     // each part nearer than the one before by this (stairs)
+    int dropped = 2;           // columns dropped at each cut
+    float over_level2 = 2.3f;  // the crown's height over the level-2 surface
+  };
+  const auto crown_ground = [](const Crown& crown) {
+    Scan s;
+    const float r[] = {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f};
+    for (int ring = 0; ring < 6; ++ring) {
+      for (int col = 0; col <= 60; ++col) add(s, ring, col, r[ring], 0.f, 1);
+    }
+    int col = 20;  // the crown 0.1 m over the ground ring 5 meets: three parts of 3 columns
+    for (int part = 0; part < 3; ++part, col += crown.dropped) {
+      const float range = 27.f - crown.step_in_m * static_cast<float>(part);
+      for (int n = 0; n < 3; ++n, ++col) add(s, 6, col, range, 0.1f, 2);
+    }
+    std::vector<float> level2(s.cloud.size(), 0.f);
+    for (std::size_t i = 0; i < level2.size(); ++i) {
+      if (s.cloud.ring[i] == 6) level2[i] = crown.over_level2;
+    }
+    const auto ground = label(s, level2).ground;
+    int taken = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) taken += s.cloud.ring[i] == 6 ? ground[i] : 0;
+    return taken;
+  };
+  CHECK(crown_ground({}) == 0);
+  CHECK(crown_ground({.over_level2 = 0.35f}) == 0);
+  // Over the level-2 surface by no more than a single rise: a real ring's drop-outs on dark
+  // ground would break the ground's line alike.
+  CHECK(crown_ground({.over_level2 = 0.1f}) == 9);
+  // Cut only by steps in range, no column dropped (as ground behind bushes on a bank's
+  // top): the nearest part stands out alone (the sky past it), the others stay.
+  CHECK(crown_ground({.step_in_m = 1.2f, .dropped = 0}) == 6);
+}
