@@ -396,9 +396,10 @@ TEST_CASE("column profiles: a ring line small cuts broke into parts stands out w
   // drops columns, so its ring line comes in parts that neither meet the sky where cut nor
   // stand out alone. Rings 0-5 see the plateau level to 20 m.
   struct Crown {
-    float step_in_m = 0.f;     // each part nearer than the one before by this (stairs)
-    int dropped = 2;           // columns dropped at each cut
-    float over_level2 = 2.3f;  // the crown's height over the level-2 surface
+    float step_in_m = 0.f;      // each part nearer than the one before by this (stairs)
+    int dropped = 2;            // columns dropped at each cut
+    float over_level2 = 2.3f;   // the crown's height over the level-2 surface
+    bool nearer_after = false;  // the ring goes on nearer past the crown, not to the sky
   };
   const auto crown_ground = [](const Crown& crown) {
     Scan s;
@@ -411,13 +412,19 @@ TEST_CASE("column profiles: a ring line small cuts broke into parts stands out w
       const float range = 27.f - crown.step_in_m * static_cast<float>(part);
       for (int n = 0; n < 3; ++n, ++col) add(s, 6, col, range, 0.1f, 2);
     }
+    const int crown_last = col - crown.dropped - 1;
+    if (crown.nearer_after) {
+      for (col = crown_last + 2; col <= 60; ++col) add(s, 6, col, 20.f, 0.1f, 1);
+    }
     std::vector<float> level2(s.cloud.size(), 0.f);
     for (std::size_t i = 0; i < level2.size(); ++i) {
       if (s.cloud.ring[i] == 6) level2[i] = crown.over_level2;
     }
     const auto ground = label(s, level2).ground;
     int taken = 0;
-    for (std::size_t i = 0; i < ground.size(); ++i) taken += s.cloud.ring[i] == 6 ? ground[i] : 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      taken += s.cloud.ring[i] == 6 && s.cloud.column[i] <= crown_last ? ground[i] : 0;
+    }
     return taken;
   };
   CHECK(crown_ground({}) == 0);
@@ -428,4 +435,6 @@ TEST_CASE("column profiles: a ring line small cuts broke into parts stands out w
   // Cut only by steps in range, no column dropped (as ground behind bushes on a bank's
   // top): the nearest part stands out alone (the sky past it), the others stay.
   CHECK(crown_ground({.step_in_m = 1.2f, .dropped = 0}) == 6);
+  // Closed at one outer end (the ring goes on nearer past it): no silhouette.
+  CHECK(crown_ground({.nearer_after = true}) == 9);
 }
