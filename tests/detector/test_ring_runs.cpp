@@ -400,6 +400,7 @@ TEST_CASE("column profiles: a ring line small cuts broke into parts stands out w
     int dropped = 2;            // columns dropped at each cut
     float over_level2 = 2.3f;   // the crown's height over the level-2 surface
     bool nearer_after = false;  // the ring goes on nearer past the crown, not to the sky
+    enum { kSky, kFace, kFarther } above = kSky;  // what ring 7 meets in the crown's columns
   };
   const auto crown_ground = [](const Crown& crown) {
     Scan s;
@@ -416,6 +417,12 @@ TEST_CASE("column profiles: a ring line small cuts broke into parts stands out w
     if (crown.nearer_after) {
       for (col = crown_last + 2; col <= 60; ++col) add(s, 6, col, 20.f, 0.1f, 1);
     }
+    for (col = 20; col <= crown_last && crown.above != Crown::kSky; ++col) {
+      if (crown.above == Crown::kFace)
+        add(s, 7, col, 27.f, 1.1f, 2);  // the crown over it
+      else
+        add(s, 7, col, 45.f, -0.3f, 1);  // ground farther on
+    }
     std::vector<float> level2(s.cloud.size(), 0.f);
     for (std::size_t i = 0; i < level2.size(); ++i) {
       if (s.cloud.ring[i] == 6) level2[i] = crown.over_level2;
@@ -429,9 +436,14 @@ TEST_CASE("column profiles: a ring line small cuts broke into parts stands out w
   };
   CHECK(crown_ground({}) == 0);
   CHECK(crown_ground({.over_level2 = 0.35f}) == 0);
-  // Over the level-2 surface by no more than a single rise: a real ring's drop-outs on dark
-  // ground would break the ground's line alike.
+  // Where the level-2 surface lies on the crown (hills_s2104), the next ring meeting the
+  // crown's own face over it, and nothing farther, says the same.
+  CHECK(crown_ground({.over_level2 = 0.1f, .above = Crown::kFace}) == 0);
+  // On the level-2 surface with the next ring meeting the sky or ground farther on: a real
+  // ring's drop-outs on dark ground break the ground's line alike.
   CHECK(crown_ground({.over_level2 = 0.1f}) == 9);
+  CHECK(crown_ground({.over_level2 = 0.1f, .above = Crown::kFarther}) == 9);
+  CHECK(crown_ground({.above = Crown::kFarther}) == 0);
   // Cut only by steps in range, no column dropped (as ground behind bushes on a bank's
   // top): the nearest part stands out alone (the sky past it), the others stay.
   CHECK(crown_ground({.step_in_m = 1.2f, .dropped = 0}) == 6);
