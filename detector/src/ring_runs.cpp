@@ -3,6 +3,7 @@
 // (silhouettes).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "column_profile.hpp"
@@ -209,14 +210,20 @@ bool ColumnProfiles::runs_raised(std::size_t i, std::size_t j) const {
 }
 
 // Whether the next ring up meets the face of the ring line from run `first` to run `last`
-// over it (at most twice the run gap nearer than its farthest return) in some of its
-// columns and nothing farther in any: an object's face, as a tree crown's over its lower
-// edge. Over ground the next ring meets the ground farther on, or the sky where a real
-// ring's drop-outs on dark asphalt at range look alike.
+// over it (at most twice the run gap nearer than its farthest return, more than
+// single_rise_m over its highest) in some of its columns and nothing farther in any: an
+// object's face, as a tree crown's over its lower edge. Over ground the next ring meets the
+// ground farther on, or the sky where a real ring's drop-outs on dark asphalt at range look
+// alike. The height keeps a floor the sensor stands on, which the next ring meets a few
+// centimetres farther (vlp16_dual_close_range with --min-sensor-height 0: 8.6 -> 7.1 %
+// ground without it).
 bool ColumnProfiles::face_over_line(const Cloud& cloud, const RingRun& first,
                                     const RingRun& last) const {
-  float farthest = 0.f;
-  for (Index n = first.a; n <= last.b; ++n) farthest = std::max(farthest, cloud.range_xy[n]);
+  float farthest = 0.f, highest = -std::numeric_limits<float>::infinity();
+  for (Index n = first.a; n <= last.b; ++n) {
+    farthest = std::max(farthest, cloud.range_xy[n]);
+    highest = std::max(highest, cloud.z[n]);
+  }
   const float beyond = farthest + run_gap(farthest);
   const int above = cloud.ring[first.a] + 1;
   bool face = false;  // the next ring meets the line's own face in some column
@@ -224,7 +231,8 @@ bool ColumnProfiles::face_over_line(const Cloud& cloud, const RingRun& first,
     for (Index k = column_start_[c]; k < column_start_[c + 1]; ++k) {
       if (points_[k].ring != above) continue;
       if (points_[k].r > beyond) return false;
-      face = face || points_[k].r > farthest - 2.f * run_gap(farthest);
+      face = face || (points_[k].r > farthest - 2.f * run_gap(farthest) &&
+                      points_[k].z > highest + p_.single_rise_m);
     }
   }
   return face;
