@@ -400,7 +400,7 @@ TEST_CASE("column profiles: a ring line small cuts broke into parts stands out w
     int dropped = 2;            // columns dropped at each cut
     float over_level2 = 2.3f;   // the crown's height over the level-2 surface
     bool nearer_after = false;  // the ring goes on nearer past the crown, not to the sky
-    enum { kSky, kFace, kFarther } above = kSky;  // what ring 7 meets in the crown's columns
+    enum { kSky, kFace, kLevel, kFarther } above = kSky;  // ring 7 in the crown's columns
   };
   const auto crown_ground = [](const Crown& crown) {
     Scan s;
@@ -418,10 +418,9 @@ TEST_CASE("column profiles: a ring line small cuts broke into parts stands out w
       for (col = crown_last + 2; col <= 60; ++col) add(s, 6, col, 20.f, 0.1f, 1);
     }
     for (col = 20; col <= crown_last && crown.above != Crown::kSky; ++col) {
-      if (crown.above == Crown::kFace)
-        add(s, 7, col, 27.f, 1.1f, 2);  // the crown over it
-      else
-        add(s, 7, col, 45.f, -0.3f, 1);  // ground farther on
+      if (crown.above == Crown::kFace) add(s, 7, col, 27.f, 1.1f, 2);      // the crown over it
+      if (crown.above == Crown::kLevel) add(s, 7, col, 27.1f, 0.1f, 2);    // level, no face
+      if (crown.above == Crown::kFarther) add(s, 7, col, 45.f, -0.3f, 1);  // ground farther
     }
     std::vector<float> level2(s.cloud.size(), 0.f);
     for (std::size_t i = 0; i < level2.size(); ++i) {
@@ -443,6 +442,8 @@ TEST_CASE("column profiles: a ring line small cuts broke into parts stands out w
   // ring's drop-outs on dark ground break the ground's line alike.
   CHECK(crown_ground({.over_level2 = 0.1f}) == 9);
   CHECK(crown_ground({.over_level2 = 0.1f, .above = Crown::kFarther}) == 9);
+  // Level with the line, as a floor the sensor stands on meets the next ring: no face.
+  CHECK(crown_ground({.over_level2 = 0.1f, .above = Crown::kLevel}) == 9);
   CHECK(crown_ground({.above = Crown::kFarther}) == 0);
   // Cut only by steps in range, no column dropped (as ground behind bushes on a bank's
   // top): the nearest part stands out alone (the sky past it), the others stay.
