@@ -287,8 +287,6 @@ class ColumnProfiles {
   [[nodiscard]] bool runs_raised(std::size_t i, std::size_t j) const;
   [[nodiscard]] bool face_over_line(const Cloud& cloud, const RingRun& first,
                                     const RingRun& last) const;
-  [[nodiscard]] bool chain_open(const Cloud& cloud, const RingRun& first,
-                                const RingRun& last) const;
   void mark_hidden_silhouettes(const Cloud& cloud);
   [[nodiscard]] bool level_with_start(const RingRun& run) const;
   [[nodiscard]] bool hidden_by_object(const Cloud& cloud, std::size_t bound, std::size_t end,

@@ -138,14 +138,10 @@ void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
     // The farther part must stand over the level-2 surface too (at both its ends): the
     // terrain seen elsewhere lies lower there. A real ring has drop-outs on dark ground that
     // look like the sky (vlp16_outdoor_600rpm: road 32 m out beside a car).
-    auto raised = [&](const RingRun& part) {
-      return raised_over_level2(position_[part.a], p_.single_rise_m) &&
-             raised_over_level2(position_[part.b], p_.single_rise_m);
-    };
     if (out_two && two_nearer) {
-      together = outer_end_sky(cloud, one, false) && raised(one);
+      together = outer_end_sky(cloud, one, false) && runs_raised(i, i);
     } else if (out_one && !two_nearer) {
-      together = outer_end_sky(cloud, two, true) && raised(two);
+      together = outer_end_sky(cloud, two, true) && runs_raised(j, j);
     }
     if (!together) continue;
     mark_standing_out(one);
@@ -169,16 +165,14 @@ void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
 // ground cut it alike. Taking the sky over the line as a face too would also take such a
 // road arc where the next ring sees nothing (more crowns in hills_s1901, but not built).
 void ColumnProfiles::mark_chained_silhouettes(const Cloud& cloud) {
-  for (std::size_t i = 0; i < runs_.size(); ++i) {
-    if (i > 0 && joined_across_small_cut(cloud, i - 1)) continue;  // not a chain's first run
-    std::size_t j = i;
+  for (std::size_t i = 0, j = 0; i < runs_.size(); i = ++j) {  // runs_[i..j]: one chain
     bool dropped = false;  // a column dropped at one of the cuts
     for (; j + 1 < runs_.size() && joined_across_small_cut(cloud, j); ++j) {
       dropped = dropped || cloud.column[runs_[j + 1].a] - cloud.column[runs_[j].b] > 1;
     }
-    if (!dropped || apart(cloud, runs_[i].a, runs_[j].b, p_.silhouette_max_m) ||
-        !chain_open(cloud, runs_[i], runs_[j]) ||
-        !(runs_raised(i, j) || face_over_line(cloud, runs_[i], runs_[j]))) {
+    const RingRun &first = runs_[i], &last = runs_[j];
+    if (!dropped || !stands_out(cloud, first.first, first.last, first.a, last.b) ||
+        !(runs_raised(i, j) || face_over_line(cloud, first, last))) {
       continue;
     }
     for (std::size_t k = i; k <= j; ++k) mark_standing_out(runs_[k]);
@@ -236,16 +230,6 @@ bool ColumnProfiles::face_over_line(const Cloud& cloud, const RingRun& first,
     }
   }
   return face;
-}
-
-// Whether the ring line from run `first` to run `last` opens onto the sky or farther
-// returns at both its outer ends.
-bool ColumnProfiles::chain_open(const Cloud& cloud, const RingRun& first,
-                                const RingRun& last) const {
-  int gap_a = 0, gap_b = 0;
-  const Index before = beyond_end(cloud, first.first, first.last, first.a, false, gap_a);
-  const Index after = beyond_end(cloud, last.first, last.last, last.b, true, gap_b);
-  return end_open(cloud, first.a, before, gap_a) && end_open(cloud, last.b, after, gap_b);
 }
 
 // A short run under the sensor that opens onto the sky or farther returns at one end and,
