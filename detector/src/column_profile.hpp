@@ -231,6 +231,8 @@ class ColumnProfiles {
   [[nodiscard]] std::size_t next_advancing(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool on_wall_top(float r, float z, float face_r, float face_z) const;
   [[nodiscard]] bool climbs_on_level2(std::size_t k, std::size_t end, float step) const;
+  [[nodiscard]] bool steepens_over_its_ray(std::size_t k, std::size_t end, float last_r,
+                                           float last_z, float bend) const;
   [[nodiscard]] bool on_measured_level2(const ColumnPoint& q) const;
   [[nodiscard]] bool under_overhang(const ColumnPoint& q, const ColumnPoint& above) const;
   [[nodiscard]] bool face_goes_on_below(std::size_t begin, std::size_t k) const;

@@ -180,6 +180,27 @@ bool ColumnProfiles::climbs_on_level2(Index k, Index end, float step) const {
          on_measured_level2(next);
 }
 
+// Whether return k, rising from the column's last ground return (last_r, last_z) by more
+// than the profile may bend up at one return, is the terrain steepening over the sensor
+// where level 2 lags: the walk has followed the column over ground returns of its own (not
+// only the start's guess), the chord to k bends the profile's gradient up by no more than
+// gradient_step (`bend`), k lies over the sensor on a surface rising more steeply than its
+// ray, as do the column's next rising_ray_returns returns (rises_over_its_ray: a roof or a
+// canopy is met from below), and k lies at most single_rise_m over the chord from the last
+// ground return to the next of them (terrain bending up lies on or under that chord; a bush
+// on a bowl's far side stands over it, bowl_s1401 at 5 Hz). A hillside steepening from
+// 0.11 to 0.36 past a ring over the sensor, each higher ring meeting it farther and higher
+// (hills_s2301: rings 10-12 at 30, 37 and 47 m, 2.6-7.5 m over the sensor).
+bool ColumnProfiles::steepens_over_its_ray(Index k, Index end, float last_r, float last_z,
+                                           float bend) const {
+  if (profile_size_ <= 2 || bend > p_.gradient_step || !rises_over_its_ray(k, end, false)) {
+    return false;
+  }
+  const ColumnPoint &q = points_[k], &next = points_[next_advancing(k, end)];
+  const float chord_z = last_z + (next.z - last_z) * (q.r - last_r) / (next.r - last_r);
+  return q.z - chord_z <= p_.single_rise_m;
+}
+
 // Whether q lies within plane_band_m of the level-2 surface where that surface has ground of
 // its own (Level2Coverage::measured).
 bool ColumnProfiles::on_measured_level2(const ColumnPoint& q) const {
@@ -429,7 +450,9 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
                  ? on_guess
                  : resumes_bent(k, step, 0.5f * (last_r + r) - gradient_r, level_run_top));
         return std::abs(step) <= p_.max_gradient &&
-               (over <= rise || resumes || (!blocked && climbs_on_level2(k, end, step)));
+               (over <= rise || resumes ||
+                (!blocked && (climbs_on_level2(k, end, step) ||
+                              steepens_over_its_ray(k, end, last_r, last_z, step - gradient))));
       };
       accept = takes(kNoLevelRun);
       if (!accept && blocked && faces_only && z <= p_.sensor_z && face_r >= 0.f) {

@@ -790,6 +790,48 @@ TEST_CASE("column profiles: terrain climbing on over the sensor on a measured le
                                               // fence line's tops
 }
 
+TEST_CASE("column profiles: terrain steepening over the sensor, each ring farther and higher",
+          "[detector][profiles]") {
+  // Sim hills_s2301 (frame 2, column 1355): the column climbs a hillside at 0.11 to ring 9,
+  // 26.9 m out and 1.5 m over the sensor (1.8 m); there the side steepens to 0.36, and
+  // rings 10-12 meet it 30, 37 and 47 m out, each rising from the one before more steeply
+  // than its ray. Ring 10 lies 0.85 m over the climb extrapolated (a rise over 3.4 m allows
+  // 0.66 m), and level 2 lags the steepening (0.85-3.8 m under rings 10-12).
+  struct Case {
+    float z10 = 4.51f, z11 = 6.36f, z12 = 9.36f;
+    bool ring12 = true;
+    float h11 = 2.f;         // ring 11's height over level 2
+    bool near_rings = true;  // rings 0-8 in this column (else only in the next: dropped out)
+  };
+  const auto ring10 = [](const Case& c) {
+    const float r[] = {6.1f, 6.7f, 7.3f, 8.f, 8.8f, 9.9f, 11.f, 12.7f, 17.1f, 26.9f};
+    const float z[] = {0.25f, 0.34f, 0.46f, 0.6f, 0.79f, 1.01f, 1.29f, 1.65f, 2.17f, 3.28f};
+    Scan s;
+    std::vector<float> level2;
+    for (int ring = 0; ring < 10; ++ring) {
+      add(s, ring, c.near_rings || ring == 9 ? 0 : 1, r[ring], z[ring], 1);
+      level2.push_back(0.f);
+    }
+    const std::size_t k = s.cloud.size();
+    add(s, 10, 0, 30.3f, c.z10, 1);
+    add(s, 11, 0, 36.6f, c.z11, 1);
+    if (c.ring12) add(s, 12, 0, 47.4f, c.z12, 1);
+    for (const float h : {0.85f, c.h11, 3.8f}) level2.push_back(h);
+    level2.resize(s.cloud.size());
+    return label(s, level2, {}, true).ground[k];
+  };
+  CHECK(ring10({}) == 1);
+  CHECK(ring10({.ring12 = false}) == 0);  // one rising return, then the sky: a crown's top
+  // Ring 9 the column's first return: no climb walked, the gradient only a chord from
+  // the start.
+  CHECK(ring10({.near_rings = false}) == 0);
+  // Lying 0.42 m over the chord from ring 9 to ring 11 (on level 2, so the kink is not
+  // taken back from there): a bush on the rise, not the rise.
+  CHECK(ring10({.z11 = 5.6f, .h11 = 0.2f}) == 0);
+  // Bending the gradient up by 0.4 (more than 0.3), though on the chord to ring 11.
+  CHECK(ring10({.z10 = 5.01f, .z11 = 7.5f, .z12 = 10.5f}) == 0);
+}
+
 TEST_CASE("column profiles: far past a climb, a return past a face rises from the face's foot",
           "[detector][profiles]") {
   // Sim bank_s1001 (frame 3, column 219): rings 0-9 climb the bank to 18.7 m (2.75 m up),
