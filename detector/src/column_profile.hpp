@@ -120,6 +120,10 @@ struct ProfileParams {
   // over the ground before and after them, are an object the walk climbed (a car roof, a
   // fence top seen by two rings), however they vouch for each other.
   float bump_group_max_m = 4.f;
+  // ... unless they lie along at least this, rising on as the chord from the ground before
+  // them does, with the ground after them more than drop_m under the ground before: a
+  // crest's top (crest_top).
+  float crest_min_m = 1.f;
   // A rise of the profile over single_rise_m between two ground returns of a column is
   // refuted by a ground return of a column at most this far to the side, between the two
   // in distance and more than single_rise_m under the profile (drop_refuted_rises).
@@ -257,6 +261,8 @@ class ColumnProfiles {
   // Whether it dropped any group.
   bool drop_raised_groups(std::size_t begin, std::size_t end);
   [[nodiscard]] bool top_at_column_end(std::size_t first, std::size_t last, bool column_first) const;
+  [[nodiscard]] bool crest_top(std::size_t first, std::size_t last, std::size_t after,
+                               float before_r, float before_z) const;
   [[nodiscard]] bool any_steep(std::size_t first, std::size_t last) const;
   void drop_orphaned_feet(std::size_t begin, std::size_t end);
   void check_single_rises(const Cloud& cloud, std::size_t begin, std::size_t end);

@@ -80,17 +80,19 @@ void ColumnProfiles::drop_refuted_rises(const Cloud& cloud) {
 // walk climbed and is dropped whole when
 // - it lies along at most bump_group_max_m and each member stands more than drop_m over the
 //   ground both before it (or the start) and after it (a car roof, a fence top seen by two
-//   rings), or
+//   rings), unless it is a crest's top (crest_top), or
 // - it ends the column as an object's top (top_at_column_end).
 bool ColumnProfiles::drop_raised_groups(Index begin, Index end) {
   bool dropped_any = false;
   auto raised = [&](Index k) { return raised_over_level2(k, 0.5f * p_.single_rise_m); };
-  float before_z = start_z_;
+  float before_r = 0.f, before_z = start_z_;  // the ground before the group (or the start)
   bool ground_before = false;
   Index k = begin;
   while (k < end) {
     if (!is_ground_neighbour(k) || !raised(k)) {
-      if (is_ground_neighbour(k)) before_z = points_[k].z, ground_before = true;
+      if (is_ground_neighbour(k)) {
+        before_r = points_[k].r, before_z = points_[k].z, ground_before = true;
+      }
       ++k;
       continue;
     }
@@ -107,6 +109,7 @@ bool ColumnProfiles::drop_raised_groups(Index begin, Index end) {
       for (Index g = k; g <= last && drop; ++g) {
         drop = !is_ground_neighbour(g) || points_[g].z > floor_z;
       }
+      drop = drop && !crest_top(k, last, after, before_r, before_z);
     }
     for (Index g = k; g <= last && drop; ++g) {
       if (!is_ground_neighbour(g)) continue;
@@ -117,6 +120,26 @@ bool ColumnProfiles::drop_raised_groups(Index begin, Index end) {
     k = after;
   }
   return dropped_any;
+}
+
+// Whether the raised group [first, last], standing out of the ground before it (at before_r,
+// before_z: the start, or the column's last ground return) and of the ground return
+// `after` it, is a crest the column passes over, not an object on the ground: it lies along
+// at least crest_min_m, rising on from its first return as the chord from the ground before
+// it rises to that return (within resume_gradient_change), and the ground after it lies
+// more than drop_m under the ground before (the far side falling away). A roof or a box's
+// top is level; an object on level ground has that ground behind it (fences_s2 at Hi-Res:
+// a box 0.8-0.95 m tall 7-8 m out, its top rising on the chord from the start by chance).
+// The vehicle just below a hill's top, the lowest rings on the top 0.6-0.8 m up, the next
+// on the far side 56 m out and 2.7 m lower (hills_s2304 at Hi-Res).
+bool ColumnProfiles::crest_top(Index first, Index last, Index after, float before_r,
+                               float before_z) const {
+  const ColumnPoint &a = points_[first], &b = points_[last];
+  if (b.r - a.r < p_.crest_min_m || a.r <= before_r) return false;
+  if (!(points_[after].z < before_z - p_.drop_m)) return false;
+  const float chord = (a.z - before_z) / (a.r - before_r);
+  const float along = (b.z - a.z) / (b.r - a.r);
+  return std::abs(along - chord) <= p_.resume_gradient_change;
 }
 
 // Whether any return of [first, last] (ground or not) lies on a steep surface.

@@ -273,6 +273,32 @@ TEST_CASE("column profiles: a group of raised returns standing out of the ground
   CHECK(roof(0.65f, 6.f) == std::vector<std::uint8_t>{1, 1, 1, 1, 1});
 }
 
+TEST_CASE("column profiles: a raised group that goes on rising as the chord to it is a crest",
+          "[detector][profiles]") {
+  // Sim hills_s2304 (Puck Hi-Res, frame 2): the vehicle just below a crest; rings 0-3 meet
+  // it 7.1-9.8 m out, 0.6-0.82 m over the ground under the vehicle (level 2 lies there),
+  // rising on from it at 0.08 as the chord from under the vehicle to ring 0 does; ring 4
+  // meets the far side 56 m out, 2.7 m lower. Each stands more than drop_m over the ground
+  // before and after it, as a car roof's returns do, but a roof or a box's top is level:
+  // it does not go on rising as the chord from the ground before it.
+  const auto crest = [](const std::vector<float>& z,
+                        std::vector<float> r = {7.07f, 7.69f, 8.53f, 9.77f, 55.76f}) {
+    Scan s;
+    for (std::size_t ring = 0; ring < z.size(); ++ring) {
+      add(s, static_cast<int>(ring), 0, r[ring], z[ring], 1);
+    }
+    return label(s, z).ground;  // level 2 at the vehicle's ground
+  };
+  using Labels = std::vector<std::uint8_t>;
+  CHECK(crest({0.6f, 0.68f, 0.75f, 0.82f, -2.71f}) == Labels{1, 1, 1, 1, 1});
+  // A level top 0.6 m up, 2.7 m deep: an object's.
+  CHECK(crest({0.6f, 0.6f, 0.6f, 0.6f, -2.71f}) == Labels{0, 0, 0, 0, 1});
+  // The ground behind it level with the vehicle's: an object on that ground.
+  CHECK(crest({0.6f, 0.68f, 0.75f, 0.82f, 0.f}) == Labels{0, 0, 0, 0, 1});
+  // Two returns 0.6 m apart: too short to show that it rises on (a fence's top).
+  CHECK(crest({0.6f, 0.68f, -2.71f}, {7.07f, 7.69f, 55.76f}) == Labels{0, 0, 1});
+}
+
 TEST_CASE("column profiles: raised returns ending a column past an obstacle are an object's top",
           "[detector][profiles]") {
   // Sim fences_s101: ring 0 on the road 7.4 m out, rings 1-4 on a 1 m wall 8.1 m out;
