@@ -218,15 +218,15 @@ bool ColumnProfiles::face_over_line(const Cloud& cloud, const RingRun& first,
     farthest = std::max(farthest, cloud.range_xy[n]);
     highest = std::max(highest, cloud.z[n]);
   }
-  const float beyond = farthest + run_gap(farthest);
+  const float gap = run_gap(farthest);
+  const float beyond = farthest + gap, face_from = farthest - 2.f * gap;
   const int above = cloud.ring[first.a] + 1;
   bool face = false;  // the next ring meets the line's own face in some column
   for (Index c = cloud.column[first.a]; c <= cloud.column[last.b]; ++c) {
     for (Index k = column_start_[c]; k < column_start_[c + 1]; ++k) {
       if (points_[k].ring != above) continue;
       if (points_[k].r > beyond) return false;
-      face = face || (points_[k].r > farthest - 2.f * run_gap(farthest) &&
-                      points_[k].z > highest + p_.single_rise_m);
+      face = face || (points_[k].r > face_from && points_[k].z > highest + p_.single_rise_m);
     }
   }
   return face;
