@@ -9,6 +9,7 @@
 // checked against the level-2 surface.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -19,6 +20,14 @@
 #include "terrain_cells.hpp"
 
 namespace vlpground::detail {
+
+/// Height of (r, z) over the chord from (a_r, a_z) to (b_r, b_z) in a column's profile,
+/// taken at r clamped to the chord's span (its start where the span is empty).
+[[nodiscard]] inline float height_over_chord(float a_r, float a_z, float b_r, float b_z, float r,
+                                             float z) {
+  const float t = b_r > a_r ? std::clamp((r - a_r) / (b_r - a_r), 0.f, 1.f) : 0.f;
+  return z - (a_z + t * (b_z - a_z));
+}
 
 struct ProfileParams {
   float sensor_x = 0, sensor_y = 0;

@@ -226,11 +226,10 @@ void ColumnProfiles::check_single_rises(const Cloud& cloud, Index begin, Index e
       while (next < end && !is_ground_neighbour(next)) ++next;
       const bool both = previous < end && next < end;
       // Height over the chord joining the ground returns before and after it.
-      const float over_chord = both ? [&] {
-        const ColumnPoint &a = points_[previous], &b = points_[next], &q = points_[k];
-        const float t = b.r > a.r ? std::clamp((q.r - a.r) / (b.r - a.r), 0.f, 1.f) : 0.f;
-        return q.z - (a.z + t * (b.z - a.z));
-      }() : 0.f;
+      const ColumnPoint& q = points_[k];
+      const float over_chord = both ? height_over_chord(points_[previous].r, points_[previous].z,
+                                                        points_[next].r, points_[next].z, q.r, q.z)
+                                    : 0.f;
       // A bump standing out of both: more than single_rise_m higher over the level-2
       // surface than each of them, and more than drop_m over their chord (a bush on fields
       // that the level-2 cells lie under by an offset: its neighbours are raised by that
@@ -275,7 +274,6 @@ void ColumnProfiles::check_single_rises(const Cloud& cloud, Index begin, Index e
       // upper bend (garage_s1505 Hi-Res). An object's top is a short run: a tree top in a
       // valley met by ring 0 over a crest (hills_s1204 Hi-Res).
       const auto terrain_run = [&] {
-        const ColumnPoint& q = points_[k];
         return (q.z >= p_.sensor_z || k == begin) && !level2_.measured(q.index) &&
                on_ring_run_of(cloud, q.index, p_.rise_run_min_m);
       };

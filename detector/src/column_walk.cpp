@@ -196,9 +196,9 @@ bool ColumnProfiles::steepens_over_its_ray(Index k, Index end, float last_r, flo
   if (profile_size_ <= 2 || bend > p_.gradient_step || !rises_over_its_ray(k, end, false)) {
     return false;
   }
+  // rises_over_its_ray saw the next advancing return: it exists.
   const ColumnPoint &q = points_[k], &next = points_[next_advancing(k, end)];
-  const float chord_z = last_z + (next.z - last_z) * (q.r - last_r) / (next.r - last_r);
-  return q.z - chord_z <= p_.single_rise_m;
+  return height_over_chord(last_r, last_z, next.r, next.z, q.r, q.z) <= p_.single_rise_m;
 }
 
 // Whether q lies within plane_band_m of the level-2 surface where that surface has ground of
