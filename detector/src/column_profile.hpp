@@ -93,6 +93,14 @@ struct ProfileParams {
   // 1.6, objects on bank_s1001's top 1.42 times as far were ground; 1.3 cost hills' far
   // sides twice the F1 for no more gain.)
   float hidden_top_range_ratio = 1.4f;
+  // ... also where that return rises from the ground return before it less than a shoulder
+  // (a lower surface, level from there, for the walk) but the climb's gradient falls by more
+  // than this to it: the climb levelled off (climb_levelled_off; a hedge 1.5 m tall on
+  // bank_s2804's top 27 m past a face rising at 0.45, met rising 0.07 from the face's last
+  // return). (At 0.1, hillsides rising on less steeply past ring 8, with level 2 off them,
+  // lost up to 0.0005 F1, hills_s1202_tilt; at 0.3, gradient_step, bank_s2804 kept 40 % of
+  // its hedge as ground.)
+  float hidden_top_bend = 0.2f;
   float min_advance_m = 0.3f;  // nearer than this (horizontally) to the last ground return
   float anchor_slack_m = 0.05f;  // ... a ground return moves the profile's end at most
                                  // max_gradient x advance + this up or down
@@ -251,6 +259,7 @@ class ColumnProfiles {
   [[nodiscard]] bool face_goes_on_below(std::size_t begin, std::size_t k) const;
   [[nodiscard]] bool under_level_overhang(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool past_hidden_top(float r, float last_r, float last_z) const;
+  [[nodiscard]] bool climb_levelled_off(float gradient, float step) const;
   [[nodiscard]] bool climb_is_guess(float gradient, float advance) const;
   // An obstacle return lying `depth` under the profile's extrapolation (r < 0: none): the
   // ground at its distance lies at or under it.

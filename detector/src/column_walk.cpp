@@ -426,10 +426,12 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       if (rising && k + 1 < end && under_overhang(q, points_[k + 1])) accept = false;
       if (rising && accept && under_level_overhang(k, end)) accept = false;
       // ... nor the column's last return far past a climb over the sensor: what stands on
-      // a top the rings cannot see (past_hidden_top), unless it lies on the level-2 surface
-      // where that surface has ground of its own (the climb's hillside rising on, met by
-      // the next ring far out: hills_s504, hills_s702).
-      if (rising && k + 1 == end && past_hidden_top(r, last_r, last_z) && !on_measured_level2(q)) {
+      // a top the rings cannot see (past_hidden_top), still rising as a shoulder or rising
+      // gently where the climb levelled off (climb_levelled_off), unless it lies on the
+      // level-2 surface where that surface has ground of its own (the climb's hillside rising
+      // on, met by the next ring far out: hills_s504, hills_s702).
+      if ((rising || climb_levelled_off(gradient, step)) && k + 1 == end &&
+          past_hidden_top(r, last_r, last_z) && !on_measured_level2(q)) {
         accept = false;
       }
     } else {
@@ -531,6 +533,15 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
 bool ColumnProfiles::past_hidden_top(float r, float last_r, float last_z) const {
   return p_.sensor_z > 0.f && profile_size_ > 2 && last_z > p_.sensor_z &&
          r > p_.hidden_top_range_ratio * last_r;
+}
+
+// Whether a return rising by `step` from the last ground return, less than a shoulder, lies
+// where a climb at `gradient` levelled off: the gradient falls by more than hidden_top_bend
+// to it. A hillside rising on less steeply bends gently (hills_s605: 0.11 to 0.07); a bank's
+// face tops out (bank_s2804: 0.45 to 0.07), and what the next ring meets far out, rising
+// gently over it, stands on the top (past_hidden_top).
+inline bool ColumnProfiles::climb_levelled_off(float gradient, float step) const {
+  return step > 0.f && gradient - step > p_.hidden_top_bend;
 }
 
 // Whether the profile, extrapolated `advance` past its last ground return with `gradient`,

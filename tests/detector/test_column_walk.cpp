@@ -454,6 +454,23 @@ TEST_CASE("column profiles: the last return far past a climb over the sensor sta
   // The face's last return at 13 m, 1.75 m up: under the sensor, where a top is seen by
   // falling rays.
   CHECK(after_face(3, 25.f, 3.5f, kNothing) == 1);
+  // Sim bank_s2804: rising only 0.03 from the face's last return (less than a shoulder: a
+  // lower surface for the walk), 2.5 times as far. The face levelled off (0.35 -> 0.03),
+  // and what the next ring met stands on its top.
+  CHECK(after_face(5, 40.f, 3.6f, kNothing) == 0);
+  CHECK(after_face(5, 40.f, 2.7f, kNothing) == 1);  // under the face's last return
+  // A hillside climbing over the sensor to 36 m, the next ring 80 m out rising gently from
+  // it: where the gradient falls by 0.12 only, the hillside may rise on less steeply (sim
+  // hills_s605: 0.11 to 0.07); by 0.27, it levelled off as the face did.
+  const auto hillside = [](float gradient, float last_step) {
+    Scan h;
+    const float r[] = {6.f, 9.f, 13.f, 18.f, 24.f, 30.f, 36.f, 80.f};
+    for (int ring = 0; ring < 7; ++ring) add(h, ring, 0, r[ring], gradient * (r[ring] - 6.f), 1);
+    add(h, 7, 0, r[7], gradient * 30.f + last_step * 44.f, 1);
+    return label(h, std::vector<float>(h.cloud.size(), 0.f)).ground[7];
+  };
+  CHECK(hillside(0.15f, 0.03f) == 1);
+  CHECK(hillside(0.3f, 0.03f) == 0);
 
   // Sim garage_s2: from inside a ramp, rings 0-2 meet its wall 5 m out, ring 3 the street
   // over it at 3.4 m and ring 4 ground far beyond, nothing over it: the climb is one return
