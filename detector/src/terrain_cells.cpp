@@ -1,6 +1,7 @@
 #include "terrain_cells.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -39,7 +40,13 @@ constexpr int kBelowPenalty = 2;
 constexpr int kSearchRings = 3;
 constexpr float kSingleRingOffset_m = 0.25f;  // fit_layer: largest step on a single ring
 constexpr float kFewRingsFrom = 2.f;  // beyond this many near_m, two rings (the reach of the rings)
-constexpr int kSeedRings = 3;  // rings among the inliers (vehicle_seed, search_cell)
+constexpr int kSeedRings = 3;
+// climbs_object_line: a two-ring fit far out on level ground that climbs a ring line.
+constexpr float kLevelReference = 0.03f;
+constexpr float kNearOnReference_m = 0.15f;
+constexpr float kLineOverNear_m = 0.3f;
+constexpr float kLineBeyond_m = 1.f;
+constexpr float kLineTurn = 0.1f;           // rings among the inliers (vehicle_seed, search_cell)
 constexpr float kBorderStep_m = 0.25f;      // largest step to the reference where they meet
 constexpr float kLayerBorderStep_m = 0.5f;  // ... for a correction of the reference (fit_layer)
 
@@ -324,7 +331,44 @@ bool TerrainCells::search_cell(int cell, const Candidates& cand,
   Plane refined;
   if (fit.solve(refined) && allowed(HeightPlane::from(refined))) best = refined;
   out = HeightPlane::from(best);
-  return true;
+  return std::popcount(rings) >= kSearchRings || !climbs_two_ring_line(cand, best, ref, out);
+}
+
+// Whether a fit (`best`, as `fit`) of the cell's candidates in cell_pts_ that two rings
+// support climbed a ring line on an object (climbs_object_line): its inliers within eps,
+// summed up by ring.
+bool TerrainCells::climbs_two_ring_line(const Candidates& cand, const Plane& best,
+                                        const HeightPlane& ref, const HeightPlane& fit) const {
+  constexpr int kRings = 32;
+  std::array<float, kRings> count{}, range{}, over{};
+  for (const std::int32_t k : cell_pts_) {
+    const Index i = idx(k);
+    const float dist = best.nx * cand.x[i] + best.ny * cand.y[i] + best.nz * cand.z[i] + best.d;
+    if (std::abs(dist) > p_.eps) continue;
+    const Index ring = cand.ring[i] & (kRings - 1u);
+    count[ring] += 1.f;
+    range[ring] += std::hypot(cand.x[i] - p_.sensor_x, cand.y[i] - p_.sensor_y);
+    over[ring] += cand.z[i] - ref.at(cand.x[i], cand.y[i]);
+  }
+  RingLine nearer{}, farther{};
+  bool any = false;
+  for (Index ring = 0; ring < kRings; ++ring) {
+    if (count[ring] == 0.f) continue;
+    const RingLine line{range[ring] / count[ring], over[ring] / count[ring]};
+    if (!any || line.range_m < nearer.range_m) nearer = line;
+    if (!any || line.range_m > farther.range_m) farther = line;
+    any = true;
+  }
+  return any && climbs_object_line(ref, fit, nearer, farther);
+}
+
+bool climbs_object_line(const HeightPlane& reference, const HeightPlane& fit,
+                        const RingLine& nearer, const RingLine& farther) {
+  return std::hypot(reference.gx, reference.gy) < kLevelReference &&
+         std::abs(nearer.over_reference_m) < kNearOnReference_m &&
+         farther.over_reference_m - nearer.over_reference_m > kLineOverNear_m &&
+         farther.range_m - nearer.range_m > kLineBeyond_m &&
+         std::hypot(fit.gx - reference.gx, fit.gy - reference.gy) > kLineTurn;
 }
 
 // The cell's candidates with a usable tangent (eq. 3 angle against the reference; no

@@ -80,6 +80,25 @@ struct Level2Coverage {
   }
 };
 
+/// A ring's inliers of a cell's fit, summed up: mean horizontal range from the sensor and
+/// mean height over the cell's reference surface.
+struct RingLine {
+  float range_m = 0.f;
+  float over_reference_m = 0.f;
+};
+
+/// Whether a fit that only two rings support, `nearer` and `farther` (by range), climbed a
+/// ring line on an object past level ground rather than following a bend: the reference
+/// is level (gradient under kLevelReference), the nearer ring lies on it (within
+/// kNearOnReference_m), the farther one stands more than kLineOverNear_m over the nearer
+/// one and at least kLineBeyond_m farther, and the fit turns the reference's gradient by more
+/// than kLineTurn. A fence or a barrier met by one ring past the ground met by the ring below
+/// (fences_s704: ring 5 on the ground 22 m out, ring 6 on a fence 0.55-0.65 m up at 24-26 m).
+/// Terrain bending up far out bends from a gradient of its own (hills: 100 of 105 such
+/// two-ring bends on a reference rising 0.03 or more).
+[[nodiscard]] bool climbs_object_line(const HeightPlane& reference, const HeightPlane& fit,
+                                      const RingLine& nearer, const RingLine& farther);
+
 /// Histogram search of the densest window: the lowest window of `width` consecutive bins
 /// whose count reaches `share` of the largest window count (share 1: the first densest).
 /// Returns its first bin, or -1 when no window has `min_count`.
@@ -136,6 +155,8 @@ class TerrainCells {
                     const std::vector<std::int32_t>& bin_slot, const HeightPlane& ref);
   bool search_cell(int cell, const Candidates& cand, const std::vector<std::int32_t>& bin_slot,
                    const HeightPlane& ref, HeightPlane& out);
+  [[nodiscard]] bool climbs_two_ring_line(const Candidates& cand, const Plane& best,
+                                          const HeightPlane& ref, const HeightPlane& fit) const;
   void count_candidates(const Candidates& cand, const std::vector<std::int32_t>& bin_slot);
   [[nodiscard]] bool close(int cell, const HeightPlane& a, const HeightPlane& b) const;
   void explained_segments(const Candidates& cand, const std::vector<std::int32_t>& bin_slot,

@@ -48,6 +48,31 @@ TEST_CASE("HeightPlane is the plane's height field", "[detector][terrain]") {
   }
 }
 
+TEST_CASE("climbs_object_line: a ring line on an object past level ground, not a bend",
+          "[detector][terrain]") {
+  // fences_s704: ring 5 on the ground 22 m out, ring 6 on a fence 0.6 m up 3 m beyond it,
+  // the fit through both turning the level reference by 0.2.
+  const HeightPlane level{0.f, 0.005f, 0.f};
+  const HeightPlane fit{-4.4f, 0.2f, 0.f};
+  const RingLine ground{21.8f, 0.02f}, fence{24.8f, 0.62f};
+  CHECK(climbs_object_line(level, fit, ground, fence));
+  // A hillside bending on from a gradient of its own.
+  CHECK_FALSE(climbs_object_line({0.f, 0.04f, 0.f}, {-4.4f, 0.24f, 0.f}, ground, fence));
+  CHECK(climbs_object_line({0.f, 0.02f, 0.f}, {-4.4f, 0.22f, 0.f}, ground, fence));
+  // The nearer ring off the reference: the reference lags, the fit corrects it.
+  CHECK_FALSE(climbs_object_line(level, fit, {21.8f, 0.2f}, {24.8f, 0.82f}));
+  CHECK(climbs_object_line(level, fit, {21.8f, 0.1f}, {24.8f, 0.72f}));
+  // The farther ring only a little higher: terrain curving gently.
+  CHECK_FALSE(climbs_object_line(level, fit, ground, {24.8f, 0.3f}));
+  CHECK(climbs_object_line(level, fit, ground, {24.8f, 0.35f}));
+  // Rings crowding on a face (a bank's): less than a metre apart.
+  CHECK_FALSE(climbs_object_line(level, fit, ground, {22.7f, 0.62f}));
+  CHECK(climbs_object_line(level, fit, ground, {22.9f, 0.62f}));
+  // A fit that hardly turns the reference: no climb.
+  CHECK_FALSE(climbs_object_line(level, {-0.4f, 0.09f, 0.f}, ground, fence));
+  CHECK(climbs_object_line(level, {-0.4f, 0.12f, 0.f}, ground, fence));
+}
+
 TEST_CASE("terrain refinement leaves a plane the paper's method explains alone",
           "[detector][terrain]") {
   test::Scene scene;
