@@ -40,13 +40,13 @@ constexpr int kBelowPenalty = 2;
 constexpr int kSearchRings = 3;
 constexpr float kSingleRingOffset_m = 0.25f;  // fit_layer: largest step on a single ring
 constexpr float kFewRingsFrom = 2.f;  // beyond this many near_m, two rings (the reach of the rings)
-constexpr int kSeedRings = 3;
+constexpr int kSeedRings = 3;         // rings among the inliers (vehicle_seed, search_cell)
 // climbs_object_line: a two-ring fit far out on level ground that climbs a ring line.
-constexpr float kLevelReference = 0.03f;
-constexpr float kNearOnReference_m = 0.15f;
-constexpr float kLineOverNear_m = 0.3f;
-constexpr float kLineBeyond_m = 1.f;
-constexpr float kLineTurn = 0.1f;           // rings among the inliers (vehicle_seed, search_cell)
+constexpr float kLevelReference = 0.03f;     // the reference's gradient under this: level
+constexpr float kNearOnReference_m = 0.15f;  // the nearer ring's mean height over it
+constexpr float kLineOverNear_m = 0.3f;      // the farther ring over the nearer one
+constexpr float kLineBeyond_m = 1.f;         // ... and this much farther out
+constexpr float kLineTurn = 0.1f;            // gradient change of the fit from the reference
 constexpr float kBorderStep_m = 0.25f;      // largest step to the reference where they meet
 constexpr float kLayerBorderStep_m = 0.5f;  // ... for a correction of the reference (fit_layer)
 

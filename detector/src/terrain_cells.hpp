@@ -91,7 +91,7 @@ struct RingLine {
 /// ring line on an object past level ground rather than following a bend: the reference
 /// is level (gradient under kLevelReference), the nearer ring lies on it (within
 /// kNearOnReference_m), the farther one stands more than kLineOverNear_m over the nearer
-/// one and at least kLineBeyond_m farther, and the fit turns the reference's gradient by more
+/// one and more than kLineBeyond_m farther, and the fit turns the reference's gradient by more
 /// than kLineTurn. A fence or a barrier met by one ring past the ground met by the ring below
 /// (fences_s704: ring 5 on the ground 22 m out, ring 6 on a fence 0.55-0.65 m up at 24-26 m).
 /// Terrain bending up far out bends from a gradient of its own (hills: 100 of 105 such
