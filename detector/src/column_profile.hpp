@@ -298,9 +298,19 @@ class ColumnProfiles {
   [[nodiscard]] bool bridged_over_sensor(const Cloud& cloud, std::size_t a) const;
   [[nodiscard]] bool stands_out(const Cloud& cloud, std::size_t first, std::size_t last,
                                 std::size_t a, std::size_t b) const;
-  [[nodiscard]] std::size_t beyond_end(const Cloud& cloud, std::size_t first, std::size_t last,
-                                       std::size_t end, bool after, int& gap) const;
-  [[nodiscard]] bool end_open(const Cloud& cloud, std::size_t end, std::size_t beyond, int gap) const;
+  // The ring's return beyond a run's end (kNone: none known), the columns without a return
+  // between them, and whether it lies across the frame's edge (its range then off by the
+  // vehicle's motion over the rotation).
+  struct RingBeyond {
+    std::size_t index;
+    int gap;
+    bool across = false;
+  };
+  [[nodiscard]] RingBeyond beyond_end(const Cloud& cloud, std::size_t first, std::size_t last,
+                                      std::size_t end, bool after) const;
+  [[nodiscard]] std::size_t across_edge(const Cloud& cloud, std::size_t first, std::size_t last,
+                                        std::size_t end, bool after, int& around) const;
+  [[nodiscard]] bool end_open(const Cloud& cloud, std::size_t end, const RingBeyond& beyond) const;
   struct RingRun;
   [[nodiscard]] bool outer_end_sky(const Cloud& cloud, const RingRun& run, bool after) const;
   void drop_wall_lines(const Cloud& cloud);
@@ -315,8 +325,8 @@ class ColumnProfiles {
                                     const RingRun& last) const;
   void mark_hidden_silhouettes(const Cloud& cloud);
   [[nodiscard]] bool level_with_start(const RingRun& run) const;
-  [[nodiscard]] bool hidden_by_object(const Cloud& cloud, std::size_t bound, std::size_t end,
-                                      std::size_t beyond, int gap, bool after) const;
+  [[nodiscard]] bool hidden_by_object(const Cloud& cloud, std::size_t first, std::size_t last,
+                                      std::size_t end, const RingBeyond& beyond, bool after) const;
   [[nodiscard]] std::size_t next_run(std::size_t i) const;
   void mark_standing_out(const RingRun& run);
   // The run gap at horizontal range `range_m`: run_gap_m + run_gap_per_m x range.
@@ -325,6 +335,11 @@ class ColumnProfiles {
   // opening onto it).
   [[nodiscard]] bool farther(float end_m, float beyond_m) const {
     return beyond_m > end_m + p_.run_gap_m;
+  }
+  // ... where the two lie across the frame's edge: by more than the motion slack
+  // (kEdgeMotionSlack run gaps) on top.
+  [[nodiscard]] bool farther(float end_m, float beyond_m, bool across) const {
+    return across ? beyond_m > end_m + kEdgeMotionSlack * run_gap(end_m) : farther(end_m, beyond_m);
   }
   [[nodiscard]] bool stopped_by_face(const Cloud& cloud, std::size_t end,
                                      std::size_t nearer) const;

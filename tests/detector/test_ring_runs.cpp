@@ -389,6 +389,77 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
   CHECK(far_box_ground({.far_z = 0.05f}) == 8);
 }
 
+TEST_CASE("column profiles: a ring passing an object hiding a run follows it across the edge",
+          "[detector][profiles]") {
+  // Sim slope_s2703: frames are cut straight ahead, where cars stand one behind the other on
+  // a ramp falling away out of the rings' reach. Rings 0-5 see the vehicle's plateau to
+  // 20 m. Ring 6 meets a car 16 m out straight ahead (columns 357-359 and 0-5, one run
+  // across the frame's edge, standing out), a car 30.8 m out beside it (columns 6-12, 0.24 m
+  // over the plateau: the sky after it) and, past the near car before the edge, the ramp
+  // 60 m out. Followed across the edge past the near car, the ring does not come out where
+  // the far car's run went in behind it: the far car is hidden and stands out.
+  const auto far_car_ground = [](float past_r, float past_z) {
+    Scan s;
+    const float r[] = {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f};
+    for (int ring = 0; ring < 6; ++ring) {
+      for (int col = 0; col < kColumns; ++col) add(s, ring, col, r[ring], 0.f, 1);
+    }
+    for (int col = 0; col < kColumns; ++col) {
+      if (col <= 5 || col >= 357) {
+        add(s, 6, col, 16.f, 1.f, 2);
+      } else if (col <= 12) {
+        add(s, 6, col, 30.8f, 0.24f, 2);
+      } else if (col >= 20) {
+        add(s, 6, col, past_r, past_z, 1);
+      }
+    }
+    const auto ground = label(s, s.cloud.z).ground;  // the level-2 surface at z = 0
+    int far = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      const int col = s.cloud.column[i];
+      far += s.cloud.ring[i] == 6 && col >= 6 && col <= 12 ? ground[i] : 0;
+    }
+    return far;
+  };
+  CHECK(far_car_ground(60.f, -2.f) == 0);
+  // Coming out across the edge where the run went in (within twice the run gap, doubled
+  // for the vehicle's motion over the rotation), the ring only passed behind the near car.
+  CHECK(far_car_ground(33.f, 0.24f) == 7);
+}
+
+TEST_CASE("column profiles: past an object, nearer ground across the edge is not followed",
+          "[detector][profiles]") {
+  // Sim hills_s1902 at 20 Hz: ring 6 meets ground falling into a valley (columns 6-12,
+  // 19.5 m out, 0.5 m under the plateau) behind a tree 14 m out (columns 3-5, standing
+  // out); before the tree, and all around the rotation, the ring runs on nearer (17 m)
+  // until the valley's far side 60 m out. The valley's floor is not hidden by the tree:
+  // the ring past it is the hill's nearer side, not the object's, so the walk stops at the
+  // frame's edge.
+  Scan s;
+  const float r[] = {6.f, 8.f, 10.f, 12.f, 14.f, 16.f};
+  for (int ring = 0; ring < 6; ++ring) {
+    for (int col = 0; col < kColumns; ++col) add(s, ring, col, r[ring], 0.f, 1);
+  }
+  for (int col = 0; col < kColumns; ++col) {
+    if (col >= 3 && col <= 5) {
+      add(s, 6, col, 14.f, 1.f, 2);
+    } else if (col >= 6 && col <= 12) {
+      add(s, 6, col, 19.5f, -0.5f, 1);
+    } else if (col >= 13 && col <= 300) {
+      add(s, 6, col, 60.f, -4.f, 1);
+    } else {
+      add(s, 6, col, 17.f, 0.f, 1);  // columns 0-2 and 301-359
+    }
+  }
+  const auto ground = label(s, s.cloud.z).ground;
+  int valley = 0;
+  for (std::size_t i = 0; i < ground.size(); ++i) {
+    const int col = s.cloud.column[i];
+    valley += s.cloud.ring[i] == 6 && col >= 6 && col <= 12 ? ground[i] : 0;
+  }
+  CHECK(valley == 7);
+}
+
 TEST_CASE("column profiles: a ring line small cuts broke into parts stands out whole",
           "[detector][profiles]") {
   // Sim hills_s2104 (frame 1): past a crest, ring 6 meets a tree crown 27 m out, level with
