@@ -162,16 +162,22 @@ Index ColumnProfiles::next_advancing(Index k, Index end) const {
 }
 
 // Whether return k, rising from the column's last ground return at gradient `step` by more
-// than the profile may bend up at one return, is the terrain climbing on over the sensor:
-// it lies over the sensor (met by a rising ray) on the level-2 surface where that surface has
-// ground of its own (on_measured_level2), and the column's next return goes on from it on
-// that surface, not steep, bending down by no more than gradient_step. A valley's far side
-// behind a convex shoulder, the column's rise there too sudden for the walk (hills_s702,
-// hills_s402); not a fence line's top that level 2 was fitted to, under the sensor, nor one
-// past which the next ring falls to the ground beyond.
+// than the profile may bend up at one return, is the terrain climbing on: it lies over the
+// sensor (met by a rising ray) or under the ground the vehicle stands on, on the level-2
+// surface where that surface has ground of its own (on_measured_level2), and the column's
+// next return goes on from it on that surface, not steep, bending down by no more than
+// gradient_step. A valley's far side behind a convex shoulder, the column's rise there too
+// sudden for the walk (hills_s702, hills_s402), or rising back from a valley's floor 2.3 m
+// under the vehicle (hills_s1903: 0.43 m up over the 4 m from ring 3 to ring 4, where the
+// walk allows 0.73 m less the descent extrapolated); not a fence line's top or a face that
+// level 2 was fitted to, over the vehicle's ground and under the sensor (fences_s2603: a
+// face 21-23 m out, 0.7-1.4 m up), nor one past which the next ring falls to the ground
+// beyond.
 bool ColumnProfiles::climbs_on_level2(Index k, Index end, float step) const {
   const ColumnPoint& q = points_[k];
-  if (p_.sensor_z <= 0.f || q.z <= p_.sensor_z || !on_measured_level2(q)) return false;
+  if (p_.sensor_z <= 0.f || (q.z <= p_.sensor_z && q.z >= start_z_) || !on_measured_level2(q)) {
+    return false;
+  }
   const Index j = next_advancing(k, end);
   if (j == end) return false;
   const ColumnPoint& next = points_[j];

@@ -751,6 +751,29 @@ TEST_CASE("column profiles: a valley's far side rising on behind a convex should
   CHECK(label(f, level2, {}, true).ground[8] == 0);
 }
 
+TEST_CASE("column profiles: a valley's far side rising back under the vehicle's ground is ground",
+          "[detector][profiles]") {
+  // Sim hills_s1903 (frame 1, column 20): the column falls into a valley 2.3 m under the
+  // vehicle's ground (ring 3, 25.9 m out) and rises back up its far side (rings 4-6, 29.9 to
+  // 38.5 m). Ring 4 stands 0.76 m over the descent extrapolated, more than the walk allows
+  // over 4 m; level 2, fitted to ground of its own there, lies through every return.
+  const std::vector<ColumnReturn> valley = {{0, 8.2f, -0.434f, 0.f},  {1, 10.6f, -0.669f, 0.f},
+                                            {2, 17.6f, -1.651f, 0.f}, {3, 25.9f, -2.340f, 0.f},
+                                            {4, 29.9f, -1.909f, 0.f}, {5, 33.6f, -1.174f, 0.f},
+                                            {6, 38.5f, -0.253f, 0.f}};
+  for (const int g : label_column(valley)) CHECK(g == 1);
+  // Sim fences_s2603 (frame 4, column 930): level road to 19 m, then a face 0.7 and 1.4 m
+  // up at 21.1 and 23.3 m that level 2 was fitted to. Over the vehicle's ground and under
+  // the sensor, it is no terrain climbing on.
+  const std::vector<ColumnReturn> face = {{0, 6.8f, 0.017f, -0.026f},  {1, 7.8f, 0.022f, -0.03f},
+                                          {2, 9.2f, 0.032f, -0.033f},  {3, 11.2f, 0.051f, -0.029f},
+                                          {4, 14.2f, 0.082f, -0.024f}, {5, 19.1f, 0.15f, 0.002f},
+                                          {6, 21.1f, 0.709f, -0.005f}, {7, 23.3f, 1.408f, -0.058f}};
+  const auto labels = label_column(face);
+  CHECK(labels[6] == 0);
+  CHECK(labels[7] == 0);
+}
+
 TEST_CASE("column profiles: past a hidden top, a return on a measured level-2 surface is ground",
           "[detector][profiles]") {
   // Sim hills_s702 (frame 4, column 600): the column climbs a valley's side to 2.7 m (over
