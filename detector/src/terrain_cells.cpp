@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "hypotheses.hpp"
+#include "plane_checks.hpp"
 #include "vlpground_internal/vector_clones.hpp"
 
 namespace vlpground::detail {
@@ -288,7 +289,7 @@ bool TerrainCells::search_cell(int cell, const Candidates& cand,
     int score = 0;
     for (const std::int32_t k : cell_pts_) {
       const Index i = idx(k);
-      const float dist = pl.nx * cand.x[i] + pl.ny * cand.y[i] + pl.nz * cand.z[i] + pl.d;
+      const float dist = signed_height(pl, cand.x[i], cand.y[i], cand.z[i]);
       if (dist < -kBelow_m) score -= kBelowPenalty;
       if (!eq3_inlier(pl, cand.x[i], cand.y[i], cand.z[i], cand.tx[i], cand.ty[i], cand.tz[i],
                       p_.eps, p_.sin_delta))
@@ -343,7 +344,7 @@ bool TerrainCells::climbs_two_ring_line(const Candidates& cand, const Plane& bes
   std::array<float, kRings> count{}, range{}, over{};
   for (const std::int32_t k : cell_pts_) {
     const Index i = idx(k);
-    const float dist = best.nx * cand.x[i] + best.ny * cand.y[i] + best.nz * cand.z[i] + best.d;
+    const float dist = signed_height(best, cand.x[i], cand.y[i], cand.z[i]);
     if (std::abs(dist) > p_.eps) continue;
     const Index ring = cand.ring[i] & (kRings - 1u);
     count[ring] += 1.f;
