@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <initializer_list>
 #include <utility>
 #include <vector>
 
@@ -10,6 +11,17 @@
 
 using namespace vlpground::detail;
 using namespace column_scan;
+
+namespace {
+// Rings 0, 1, ... on level ground (z = 0) at the given ranges, in columns [0, columns).
+void add_level_rings(Scan& s, std::initializer_list<float> ranges, int columns) {
+  int ring = 0;
+  for (const float r : ranges) {
+    for (int col = 0; col < columns; ++col) add(s, ring, col, r, 0.f, 1);
+    ++ring;
+  }
+}
+}  // namespace
 
 TEST_CASE("column profiles: a ring's ground across the shadow of an obstacle is ground",
           "[detector][profiles]") {
@@ -368,21 +380,14 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
   };
   const auto far_box_ground = [](const Ring6& ring6) {
     Scan s;
-    const float r[] = {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f};
-    for (int ring = 0; ring < 6; ++ring) {
-      for (int col = 0; col <= 60; ++col) add(s, ring, col, r[ring], 0.f, 1);
-    }
+    add_level_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}, 61);
     const int far_end = 22 - ring6.edge_returns;
     for (int col = 15; col <= far_end; ++col) add(s, 6, col, 30.8f, ring6.far_z, 2);
     for (int col = far_end + 1; col <= 22; ++col) add(s, 6, col, 25.f, 0.f, 2);
     for (int col = 24; col <= 38; ++col) add(s, 6, col, 16.f, 1.f, 2);
     for (int col = 39; col <= 60; ++col) add(s, 6, col, ring6.past_r, ring6.past_z, 1);
-    const auto ground = label(s, s.cloud.z).ground;  // the level-2 surface at z = 0
-    int far = 0;
-    for (std::size_t i = 0; i < ground.size(); ++i) {
-      far += s.cloud.ring[i] == 6 && s.cloud.column[i] <= far_end ? ground[i] : 0;
-    }
-    return far;
+    // The level-2 surface at z = 0.
+    return ground_on_ring(s, label(s, s.cloud.z).ground, 6, far_end + 1);
   };
   CHECK(far_box_ground({}) == 0);
   // A lone return between the boxes (a pixel on the far box's edge, slope_s2405) that lies
@@ -408,10 +413,7 @@ TEST_CASE("column profiles: a ring passing an object hiding a run follows it acr
   // the far car's run went in behind it: the far car is hidden and stands out.
   const auto far_car_ground = [](float past_r, float past_z) {
     Scan s;
-    const float r[] = {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f};
-    for (int ring = 0; ring < 6; ++ring) {
-      for (int col = 0; col < kColumns; ++col) add(s, ring, col, r[ring], 0.f, 1);
-    }
+    add_level_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}, kColumns);
     for (int col = 0; col < kColumns; ++col) {
       if (col <= 5 || col >= 357) {
         add(s, 6, col, 16.f, 1.f, 2);
@@ -444,10 +446,7 @@ TEST_CASE("column profiles: past an object, nearer ground across the edge is not
   // the ring past it is the hill's nearer side, not the object's, so the walk stops at the
   // frame's edge.
   Scan s;
-  const float r[] = {6.f, 8.f, 10.f, 12.f, 14.f, 16.f};
-  for (int ring = 0; ring < 6; ++ring) {
-    for (int col = 0; col < kColumns; ++col) add(s, ring, col, r[ring], 0.f, 1);
-  }
+  add_level_rings(s, {6.f, 8.f, 10.f, 12.f, 14.f, 16.f}, kColumns);
   for (int col = 0; col < kColumns; ++col) {
     if (col >= 3 && col <= 5) {
       add(s, 6, col, 14.f, 1.f, 2);
@@ -483,10 +482,7 @@ TEST_CASE("column profiles: a ring line small cuts broke into parts stands out w
   };
   const auto crown_ground = [](const Crown& crown) {
     Scan s;
-    const float r[] = {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f};
-    for (int ring = 0; ring < 6; ++ring) {
-      for (int col = 0; col <= 60; ++col) add(s, ring, col, r[ring], 0.f, 1);
-    }
+    add_level_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}, 61);
     int col = 20;  // the crown 0.1 m over the ground ring 5 meets: three parts of 3 columns
     for (int part = 0; part < 3; ++part, col += crown.dropped) {
       const float range = 27.f - crown.step_in_m * static_cast<float>(part);
