@@ -39,7 +39,76 @@ void mark_rows(const Cloud& cloud, const RingRuns& begin, std::vector<std::uint8
   }
 }
 
+// 1 when points a and b lie on one upright face: within kFaceRange_m of each other in
+// horizontal range and rising over 63 degrees (|dz| > 2 |dr|). Across a ring that did not
+// return the two lie twice as far apart in height as adjacent rings, so ground at a face's
+// foot would rise steeply to it from much farther (a trunk 0.5 m behind the ground return
+// under it, hills_s1805); on one face they lie at the same range, within the range noise.
+constexpr float kFaceRange_m = 0.1f;
+std::uint8_t on_one_face(const float* z, const float* range, Index a, Index b) {
+  const float dz = z[b] - z[a], dr = std::abs(range[b] - range[a]);
+  return static_cast<std::uint8_t>((dr < kFaceRange_m) & (std::abs(dz) > 2.f * dr));
+}
+
+// Rows as a table: table.point[column * kLasers + ring] is the point (row position `p`, cloud
+// point at(p)) of each ring that returned in the column, where table.present has the ring's
+// bit. Positions [first, last) of the rows.
+template <class At>
+void tabulate(const Cloud& cloud, Index first, Index last, At at, FaceTable& table) {
+  int columns = 0;
+  for (Index p = first; p < last; ++p) columns = std::max(columns, cloud.column[at(p)] + 1);
+  table.present.assign(static_cast<Index>(columns), 0);
+  table.point.resize(static_cast<Index>(columns) * kLasers);
+  for (Index p = first; p < last; ++p) {
+    const Index i = at(p), c = cloud.column[i];
+    table.present[c] |= static_cast<std::uint16_t>(1u << cloud.ring[i]);
+    table.point[c * kLasers + cloud.ring[i]] = static_cast<std::uint32_t>(i);
+  }
+}
+
+// Marks both returns of each pair of a column's rings two apart, the ring between without a
+// return, that lie on one face (on_one_face); `markable` says which points may be marked.
+template <class Markable>
+void mark_gaps(const Cloud& cloud, const FaceTable& table, Markable markable,
+               std::vector<std::uint8_t>& steep) {
+  for (Index c = 0; c < table.present.size(); ++c) {
+    const unsigned rings = table.present[c];
+    // Bit r: ring r and ring r + 2 returned, ring r + 1 did not.
+    unsigned gaps = rings & ~(rings >> 1) & (rings >> 2);
+    while (gaps != 0) {
+      const auto r = static_cast<Index>(__builtin_ctz(gaps));
+      gaps &= gaps - 1;
+      const Index a = table.point[c * kLasers + r], b = table.point[c * kLasers + r + 2];
+      const std::uint8_t face = on_one_face(cloud.z.data(), cloud.range_xy.data(), a, b);
+      if (markable(a)) steep[a] |= face;
+      if (markable(b)) steep[b] |= face;
+    }
+  }
+}
+
 }  // namespace
+
+void add_faces_across_gaps(const Cloud& cloud, FaceTable& table, std::vector<std::uint8_t>& steep) {
+  const Index n = cloud.size();
+  const Index strongest = strongest_end(cloud);
+  const auto own = [](Index p) { return p; };
+  const auto any = [](Index) { return true; };
+  tabulate(cloud, 0, strongest, own, table);
+  mark_gaps(cloud, table, any, steep);
+  if (!cloud.deduplicated) {
+    tabulate(cloud, strongest, n, own, table);
+    mark_gaps(cloud, table, any, steep);
+    return;
+  }
+  // The last layer as the sensor saw it (twins included); twins keep their strongest-row
+  // flag.
+  const std::uint32_t* const rows = cloud.last_rows.data();
+  tabulate(
+      cloud, 0, cloud.last_rows.size(), [rows](Index p) { return Index{rows[p]}; }, table);
+  const Index last_begin = cloud.last_begin;
+  mark_gaps(
+      cloud, table, [last_begin](Index i) { return i >= last_begin; }, steep);
+}
 
 void mark_steep(const Cloud& cloud, std::vector<std::uint8_t>& steep) {
   steep.assign(cloud.size(), 0);

@@ -16,4 +16,17 @@ namespace vlpground::detail {
 /// adjacent rows; requires the cloud in build_cloud order (layer, ring, column ascending).
 void mark_steep(const Cloud& cloud, std::vector<std::uint8_t>& steep);
 
+/// Scratch of add_faces_across_gaps, kept by the caller so that no frame allocates.
+struct FaceTable {
+  std::vector<std::uint16_t> present;  // by column: a bit per ring that returned
+  std::vector<std::uint32_t> point;    // by column and ring: the cloud point
+};
+
+/// Sets steep[i] = 1 also where the ring just above or below cloud point i did not return in
+/// its column (same layer) and i and the return of the ring beyond lie on one upright face:
+/// the same horizontal range within 0.1 m, rising over 63 degrees. A face whose lowest
+/// return's next ring dropped out (a dark car side) is then still a face. The column
+/// profiles use these flags; level 1 and the cells use mark_steep's alone.
+void add_faces_across_gaps(const Cloud& cloud, FaceTable& table, std::vector<std::uint8_t>& steep);
+
 }  // namespace vlpground::detail

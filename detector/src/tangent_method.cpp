@@ -350,7 +350,9 @@ class TangentMethod final : public Method {
     }
     const Level2Coverage coverage =
         with_cells ? cells_.coverage(binning_.point_bin().data()) : Level2Coverage{};
-    profiles_.label(cloud, steep_.data(), coverage, plane_height_, pp, ground_, height_);
+    profile_steep_ = steep_;
+    add_faces_across_gaps(cloud, face_table_, profile_steep_);
+    profiles_.label(cloud, profile_steep_.data(), coverage, plane_height_, pp, ground_, height_);
   }
 
   [[nodiscard]] CellParams cell_params() const {
@@ -390,6 +392,8 @@ class TangentMethod final : public Method {
   Tangents tangents_;
   RingSlopes ring_slopes_{};
   std::vector<std::uint8_t> steep_;
+  std::vector<std::uint8_t> profile_steep_;  // steep_ and faces across gaps (level 3)
+  FaceTable face_table_;
   GridSpec grid_;
   ScoreParams score_params_;
   AgreementRules agreement_;

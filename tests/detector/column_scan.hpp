@@ -87,6 +87,8 @@ inline Labels label_by_cell(const Scan& s, std::vector<float> level2, std::vecto
   if (plane.empty()) plane.assign(s.cloud.size(), std::nanf(""));
   std::vector<std::uint8_t> steep;
   mark_steep(s.cloud, steep);
+  FaceTable faces;
+  add_faces_across_gaps(s.cloud, faces, steep);  // as the detector gives the profiles
   ProfileParams p;
   p.sensor_z = 1.8f;  // mounting height known: the ground under the sensor is z = 0
   p.continues_previous = continues_previous;
