@@ -50,19 +50,19 @@ std::uint8_t on_one_face(const float* z, const float* range, Index a, Index b) {
   return static_cast<std::uint8_t>((dr < kFaceRange_m) & (std::abs(dz) > 2.f * dr));
 }
 
-// Rows as a table: table.point[column * kLasers + ring] is the point (row position `p`, cloud
-// point at(p)) of each ring that returned in the column, where table.present has the ring's
-// bit. Positions [first, last) of the rows.
+// Rows as a table: table.point[ring * columns + column] is the cloud point (at(p) of row
+// position p) of each ring that returned in the column, where table.present has the ring's
+// bit; ring-major, as the rows, so that it is written in order. Positions [first, last).
 template <class At>
-void tabulate(const Cloud& cloud, Index first, Index last, At at, FaceTable& table) {
-  int columns = 0;
-  for (Index p = first; p < last; ++p) columns = std::max(columns, cloud.column[at(p)] + 1);
-  table.present.assign(static_cast<Index>(columns), 0);
-  table.point.resize(static_cast<Index>(columns) * kLasers);
+void tabulate(const Cloud& cloud, Index columns, Index first, Index last, At at, FaceTable& table) {
+  table.present.assign(columns, 0);
+  table.point.resize(columns * kLasers);
+  std::uint16_t* const present = table.present.data();
+  std::uint32_t* const point = table.point.data();
   for (Index p = first; p < last; ++p) {
-    const Index i = at(p), c = cloud.column[i];
-    table.present[c] |= static_cast<std::uint16_t>(1u << cloud.ring[i]);
-    table.point[c * kLasers + cloud.ring[i]] = static_cast<std::uint32_t>(i);
+    const Index i = at(p), c = cloud.column[i], ring = cloud.ring[i];
+    present[c] = static_cast<std::uint16_t>(present[c] | (1u << ring));
+    point[ring * columns + c] = static_cast<std::uint32_t>(i);
   }
 }
 
@@ -78,7 +78,8 @@ void mark_gaps(const Cloud& cloud, const FaceTable& table, Markable markable,
     while (gaps != 0) {
       const auto r = static_cast<Index>(__builtin_ctz(gaps));
       gaps &= gaps - 1;
-      const Index a = table.point[c * kLasers + r], b = table.point[c * kLasers + r + 2];
+      const Index columns = table.present.size();
+      const Index a = table.point[r * columns + c], b = table.point[(r + 2) * columns + c];
       const std::uint8_t face = on_one_face(cloud.z.data(), cloud.range_xy.data(), a, b);
       if (markable(a)) steep[a] |= face;
       if (markable(b)) steep[b] |= face;
@@ -93,10 +94,14 @@ void add_faces_across_gaps(const Cloud& cloud, FaceTable& table, std::vector<std
   const Index strongest = strongest_end(cloud);
   const auto own = [](Index p) { return p; };
   const auto any = [](Index) { return true; };
-  tabulate(cloud, 0, strongest, own, table);
+  // Columns: one past the largest column of any return (a vectorised pass).
+  std::uint16_t last_column = 0;
+  for (Index i = 0; i < n; ++i) last_column = std::max(last_column, cloud.column[i]);
+  const Index columns = n == 0 ? 0 : Index{last_column} + 1;
+  tabulate(cloud, columns, 0, strongest, own, table);
   mark_gaps(cloud, table, any, steep);
   if (!cloud.deduplicated) {
-    tabulate(cloud, strongest, n, own, table);
+    tabulate(cloud, columns, strongest, n, own, table);
     mark_gaps(cloud, table, any, steep);
     return;
   }
@@ -104,7 +109,7 @@ void add_faces_across_gaps(const Cloud& cloud, FaceTable& table, std::vector<std
   // flag.
   const std::uint32_t* const rows = cloud.last_rows.data();
   tabulate(
-      cloud, 0, cloud.last_rows.size(), [rows](Index p) { return Index{rows[p]}; }, table);
+      cloud, columns, 0, cloud.last_rows.size(), [rows](Index p) { return Index{rows[p]}; }, table);
   const Index last_begin = cloud.last_begin;
   mark_gaps(
       cloud, table, [last_begin](Index i) { return i >= last_begin; }, steep);
