@@ -42,8 +42,8 @@ void mark_rows(const Cloud& cloud, const RingRuns& begin, std::vector<std::uint8
 // 1 when points a and b lie on one upright face: within kFaceRange_m of each other in
 // horizontal range and rising over 63 degrees (|dz| > 2 |dr|). Across a ring that did not
 // return the two lie twice as far apart in height as adjacent rings, so ground at a face's
-// foot would rise steeply to it from much farther (a trunk 0.5 m behind the ground return
-// under it, hills_s1805); on one face they lie at the same range, within the range noise.
+// foot would rise steeply to it from much farther (a trunk 0.5-1.1 m behind the hillside
+// under it, hills_s1805_tilt); on one face they lie at the same range, within its noise.
 constexpr float kFaceRange_m = 0.1f;
 std::uint8_t on_one_face(const float* z, const float* range, Index a, Index b) {
   const float dz = z[b] - z[a], dr = std::abs(range[b] - range[a]);
@@ -71,14 +71,14 @@ void tabulate(const Cloud& cloud, Index columns, Index first, Index last, At at,
 template <class Markable>
 void mark_gaps(const Cloud& cloud, const FaceTable& table, Markable markable,
                std::vector<std::uint8_t>& steep) {
-  for (Index c = 0; c < table.present.size(); ++c) {
+  const Index columns = table.present.size();
+  for (Index c = 0; c < columns; ++c) {
     const unsigned rings = table.present[c];
     // Bit r: ring r and ring r + 2 returned, ring r + 1 did not.
     unsigned gaps = rings & ~(rings >> 1) & (rings >> 2);
     while (gaps != 0) {
       const auto r = static_cast<Index>(__builtin_ctz(gaps));
       gaps &= gaps - 1;
-      const Index columns = table.present.size();
       const Index a = table.point[r * columns + c], b = table.point[(r + 2) * columns + c];
       const std::uint8_t face = on_one_face(cloud.z.data(), cloud.range_xy.data(), a, b);
       if (markable(a)) steep[a] |= face;

@@ -19,7 +19,7 @@ void mark_steep(const Cloud& cloud, std::vector<std::uint8_t>& steep);
 /// Scratch of add_faces_across_gaps, kept by the caller so that no frame allocates.
 struct FaceTable {
   std::vector<std::uint16_t> present;  // by column: a bit per ring that returned
-  std::vector<std::uint32_t> point;    // by column and ring: the cloud point
+  std::vector<std::uint32_t> point;    // by ring, then column: the cloud point
 };
 
 /// Sets steep[i] = 1 also where the ring just above or below cloud point i did not return in
