@@ -21,17 +21,10 @@ std::vector<std::uint8_t> steep_flags(const Cloud& cloud, bool faces_across_gaps
 // A return of the last layer of a deduplicated cloud (build_cloud's layout): a distinct last
 // return gets a point of its own; a twin repeats the strongest echo, whose point stands in
 // last_rows.
-void add_last(Cloud& c, int ring, int col, float r, float z) {
-  const float a = static_cast<float>(col) * kDeg;
-  c.x.push_back(r * std::cos(a));
-  c.y.push_back(r * std::sin(a));
-  c.z.push_back(z);
-  c.range_xy.push_back(r);
-  c.cell.push_back(static_cast<std::uint32_t>(ring * kColumns + col));
-  c.layer.push_back(1);
-  c.ring.push_back(static_cast<std::uint16_t>(ring));
-  c.column.push_back(static_cast<std::uint16_t>(col));
-  c.twin.push_back(0);
+void add_last(Scan& s, int ring, int col, float r, float z) {
+  add(s, ring, col, r, z, 2);
+  s.cloud.layer.back() = 1;
+  s.cloud.twin.push_back(0);
 }
 
 }  // namespace
@@ -80,7 +73,7 @@ TEST_CASE("steep flags: a distinct last return across a ring without a return",
   Cloud& c = s.cloud;
   c.deduplicated = true;
   c.last_begin = c.size();
-  add_last(c, 0, 0, 6.69f, 0.79f);  // 2: ring 0's distinct last echo
+  add_last(s, 0, 0, 6.69f, 0.79f);  // 2: ring 0's distinct last echo
   c.twin[1] = 1;
   c.last_rows = {2, 1};  // ring 0: the distinct point; ring 2: the twin's strongest point
   const auto adjacent = steep_flags(c, false);
