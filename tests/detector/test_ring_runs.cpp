@@ -263,6 +263,63 @@ TEST_CASE("column profiles: over the sensor a run goes on across two dropped col
   CHECK(crown_ground(1.7f) == 8);
 }
 
+TEST_CASE("column profiles: the road behind an object's foot, going on from the ring below",
+          "[detector][profiles]") {
+  // Sim embankment_s1502 at 5 Hz (frame 1): ring 0 meets the road all along; ring 1 runs
+  // along a parked car's foot, steps back past its corner onto the road's edge, level with
+  // ring 0's road, over 1.7 m, then passes over the edge to the fields 2.9 m lower. The
+  // car and the road are one run along the ring (the step within the run gap), short and
+  // open at both ends: it stood out whole (rule 5) and the road's edge was lost. Ranges
+  // are scaled to the scan's 1-degree columns.
+  struct Ring1 {
+    float corner_r = 4.65f;  // the car's foot where the ring leaves it (the road is 5 m out)
+    int road_end = 41;       // the road's last column on ring 1
+    int low_start = 0;       // columns 10 to low_start - 1 of the car: low, nothing over them
+  };
+  const auto road_ground = [](const Ring1& ring1) {
+    Scan s;
+    for (int col = 0; col <= 84; ++col) add(s, 0, col, 4.2f, -0.08f, 1);
+    for (int col = 0; col <= 84; ++col) {
+      if (col < 10) {
+        add(s, 1, col, 5.f, -0.08f, 1);  // the road before the car
+      } else if (col < 30) {             // the car's foot, coming out to its corner
+        const float t = static_cast<float>(col - 10) / 19.f;
+        const float z = col < ring1.low_start ? -0.06f : 0.15f - 0.15f * t;
+        add(s, 1, col, 4.4f + t * (ring1.corner_r - 4.4f), z, 2);
+      } else if (col <= ring1.road_end) {
+        add(s, 1, col, 5.f, -0.08f, 1);
+      } else {
+        add(s, 1, col, 20.7f, -2.93f, 1);  // the fields
+      }
+    }
+    for (int col = ring1.low_start > 0 ? ring1.low_start : 10; col <= 84; ++col) {
+      if (col < 30) {  // the car's side over its foot, then the fields
+        add(s, 2, col, 4.4f, 0.4f, 2);
+      } else {
+        add(s, 2, col, 24.6f, -2.93f, 1);
+      }
+    }
+    for (int col = std::max(10, ring1.low_start); col < 30; ++col) add(s, 3, col, 4.4f, 0.7f, 2);
+    const auto ground = label(s).ground;
+    int n = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      const int col = s.cloud.column[i];
+      if (s.cloud.ring[i] == 1 && col >= 30 && col <= ring1.road_end) n += ground[i];
+    }
+    return n;
+  };
+  CHECK(road_ground({}) == 12);
+  // The ring going on smoothly from the object (no step back past an edge): the object's
+  // own surface, level with the road past the road's edge (embankment_s2204 tilted: a bush
+  // on the levee's side), stands out with it.
+  CHECK(road_ground({.corner_r = 4.97f}) == 0);
+  // The road's part shorter than shadow_anchor_m (0.7 m): nothing vouches for it.
+  CHECK(road_ground({.road_end = 36}) == 0);
+  // Nor when the walk took returns of the rest (the object's low end, level with the road
+  // and nothing over it): no object in front of the road alone; the whole stands out.
+  CHECK(road_ground({.low_start = 14}) == 0);
+}
+
 TEST_CASE("column profiles: the vehicle's road seen by any two consecutive rings is ground",
           "[detector][profiles]") {
   // Sim embankment_s304 (frame 1): behind the vehicle rings 0, 1 and 3 run on along the
