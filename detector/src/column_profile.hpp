@@ -360,7 +360,6 @@ class ColumnProfiles {
   std::vector<std::uint8_t> shadowed_;  // ColumnPoint::shadowed by cloud point
   std::vector<std::uint32_t> refuted_;  // column points to drop (drop_refuted_rises)
   std::vector<std::uint8_t> stands_out_;     // in a run standing out (remove_silhouettes)
-  std::vector<std::uint8_t> road_from_below_;  // the road going on from a lower ring
   std::vector<std::uint8_t> continuous_;     // with the next return (mark_continuous)
   // A run [a, b] of returns continuous along a ring whose returns are [first, last). A ring
   // is a closed curve that the frame's edge cuts: the ring's first run goes on from its last
@@ -381,9 +380,11 @@ class ColumnProfiles {
                                             std::size_t start) const;
   [[nodiscard]] bool under_half_turn(const Cloud& cloud, std::size_t a, std::size_t b) const;
   void remove_silhouette(const Cloud& cloud, const RingRun& run, const RingRun* before);
-  void mark_road_from_below(const Cloud& cloud);
-  [[nodiscard]] bool road_behind_object(const Cloud& cloud, const RingRun& run) const;
-  [[nodiscard]] bool steps_behind(const Cloud& cloud, std::size_t near, std::size_t far) const;
+  [[nodiscard]] bool carries_vehicle_road(const Cloud& cloud, std::size_t i) const;
+  bool road_behind_object(const Cloud& cloud, const RingRun& run, std::size_t& keep_a,
+                          std::size_t& keep_b) const;
+  [[nodiscard]] bool steps_behind(const Cloud& cloud, std::size_t near, std::size_t far,
+                                  std::size_t next) const;
   std::vector<RingRun> runs_;  // every ring's runs (strongest layer), in ring order
   // The previous frame's points_ and column_start_, swapped out at the end of label (no
   // copy), for a fragment going on from it (ProfileParams::continues_previous); and the end

@@ -105,7 +105,6 @@ void ColumnProfiles::remove_silhouettes(const Cloud& cloud) {
   mark_broken_silhouettes(cloud);
   mark_chained_silhouettes(cloud);
   mark_hidden_silhouettes(cloud);
-  mark_road_from_below(cloud);
   for (const RingRun& run : runs_) {
     if (stands_out_[run.a] == 0 || (run.wrap != kNoRun && run.a != run.first)) continue;
     remove_silhouette(cloud, run, run.wrap != kNoRun ? &runs_[run.wrap] : nullptr);
@@ -459,43 +458,44 @@ void ColumnProfiles::remove_silhouette(const Cloud& cloud, const RingRun& run,
     }
   }
   if (road_first != kNone && apart(cloud, road_first, road_last, p_.shadow_anchor_m)) return;
-  if (before == nullptr && road_behind_object(cloud, run)) return;
+  // The object in front of a road part alone, where the run is both.
+  Index keep_a = kNone, keep_b = kNone;
+  if (before == nullptr) road_behind_object(cloud, run, keep_a, keep_b);
   for (const RingRun* part : {before, &run}) {
     if (part == nullptr) continue;
-    for (Index i = part->a; i <= part->b; ++i) points_[position_[i]].ground = 0;
-  }
-}
-
-// Marks the returns that carry the road the vehicle stands on from a lower ring: the
-// road_beyond of a return that does not stand out.
-void ColumnProfiles::mark_road_from_below(const Cloud& cloud) {
-  road_from_below_.assign(cloud.size(), 0);
-  for (const ColumnPoint& q : points_) {
-    if (q.road_beyond != kNoPoint && stands_out_[q.index] == 0) road_from_below_[q.road_beyond] = 1;
-  }
-}
-
-// Whether the run is an object joined to the road behind it: at one end, over
-// shadow_anchor_m, the road the vehicle stands on going on from the ring below (each return
-// the road_beyond of a lower ring's return that does not stand out), the rest returns the
-// walk refused, the one next to that road part nearer than it (the object in front of the
-// road, the ring passing from its edge onto the road). embankment_s1502 at 5 Hz: ring 1
-// along a car's foot then 1.7 m of the road's edge, past which it meets the fields 2.9 m
-// lower.
-bool ColumnProfiles::road_behind_object(const Cloud& cloud, const RingRun& run) const {
-  const auto taken = [&](Index i) { return points_[position_[i]].ground != 0; };
-  // Whether the returns [from, to] were all refused by the walk.
-  const auto refused = [&](Index from, Index to) {
-    for (Index i = from; i <= to; ++i) {
-      if (taken(i)) return false;
+    for (Index i = part->a; i <= part->b; ++i) {
+      if (keep_a == kNone || i < keep_a || i > keep_b) points_[position_[i]].ground = 0;
     }
-    return true;
-  };
-  // Whether the returns [from, to] carry the road from the ring below over shadow_anchor_m.
+  }
+}
+
+// Whether return i carries the road the vehicle stands on: its column's first return, level
+// with the start (vehicle_ground), or the road going on from a lower ring's return there that
+// does not stand out (road_beyond).
+bool ColumnProfiles::carries_vehicle_road(const Cloud& cloud, Index i) const {
+  const Index k = position_[i], begin = column_start_[cloud.column[i]];
+  if (k == begin) return points_[k].vehicle_ground != 0;
+  for (Index j = begin; j < k; ++j) {
+    if (points_[j].road_beyond == i && stands_out_[points_[j].index] == 0) return true;
+  }
+  return false;
+}
+
+// Whether the run is an object joined to the road behind it, whose returns [keep_a, keep_b]
+// are then that road. The road lies at one end of the run, taken by the walk, carrying the
+// vehicle's road over shadow_anchor_m (carries_vehicle_road); the ring steps back onto it from
+// the object's edge (steps_behind); the object's part holds a return the walk refused (its
+// foot, level with the road, may have been taken where the rings over it did not return).
+// embankment_s1502 at 5 Hz: ring 1 along a car's foot, then 1.7 m of the road's edge, past
+// which it meets the fields 2.9 m lower.
+bool ColumnProfiles::road_behind_object(const Cloud& cloud, const RingRun& run, Index& keep_a,
+                                        Index& keep_b) const {
+  const auto taken = [&](Index i) { return points_[position_[i]].ground != 0; };
+  // Whether the returns [from, to] carry the vehicle's road over shadow_anchor_m.
   const auto carries_road = [&](Index from, Index to) {
     Index first = kNone, last = kNone;
     for (Index i = from; i <= to; ++i) {
-      if (road_from_below_[i] == 0) continue;
+      if (!carries_vehicle_road(cloud, i)) continue;
       if (first == kNone) first = i;
       last = i;
     }
@@ -506,24 +506,42 @@ bool ColumnProfiles::road_behind_object(const Cloud& cloud, const RingRun& run) 
   if (lead > run.b) return false;  // all taken: no object in it
   Index trail = run.b;             // (trail, run.b]: the trailing part the walk took
   while (taken(trail)) --trail;
-  if (lead > run.a && steps_behind(cloud, lead, lead - 1) && carries_road(run.a, lead - 1) &&
-      refused(lead, run.b)) {
-    return true;
+  // The road before the object: the edge nearest the refused returns.
+  for (Index e = lead; e > run.a + 1; --e) {
+    if (!steps_behind(cloud, e, e - 1, e - 2)) continue;
+    if (carries_road(run.a, e - 1)) {
+      keep_a = run.a, keep_b = e - 1;
+      return true;
+    }
+    break;
   }
-  return trail < run.b && steps_behind(cloud, trail, trail + 1) && carries_road(trail + 1, run.b) &&
-         refused(run.a, trail);
+  // The road after it.
+  for (Index e = trail; e + 1 < run.b; ++e) {
+    if (!steps_behind(cloud, e, e + 1, e + 2)) continue;
+    if (carries_road(e + 1, run.b)) {
+      keep_a = e + 1, keep_b = run.b;
+      return true;
+    }
+    break;
+  }
+  return false;
 }
 
-// Whether the ring steps from return `near` back to `far` past an object's edge: farther by
-// more than kEdgeStepRatio times the distance across the ray between them (the surface
-// joining them would lie within 18 degrees of the rays).
-bool ColumnProfiles::steps_behind(const Cloud& cloud, Index near, Index far) const {
-  constexpr float kEdgeStepRatio = 3.f;
+// Whether the ring steps from return `near` back to `far` past an object's edge and goes on
+// from `far` to `next` as the surface behind it: farther by more than kEdgeStepRatio times the
+// distance across the ray between them (the surface joining them would lie within 11
+// degrees of the rays) and by more than half the run gap's base (over the range noise
+// between columns a few centimetres apart: an oblique wall's foot, embankment_s2005 at 5 Hz,
+// 0.07 m farther over 0.02 m across), then on to `next` by less than half that step (a
+// surface running along the rays steps on alike: a car's side seen end-on, hills_s3101).
+bool ColumnProfiles::steps_behind(const Cloud& cloud, Index near, Index far, Index next) const {
+  constexpr float kEdgeStepRatio = 5.f;
   const float step = cloud.range_xy[far] - cloud.range_xy[near];
   const float nx = cloud.x[near] - p_.sensor_x, ny = cloud.y[near] - p_.sensor_y;
   const float fx = cloud.x[far] - p_.sensor_x, fy = cloud.y[far] - p_.sensor_y;
   const float across = std::abs(nx * fy - ny * fx) / cloud.range_xy[far];
-  return step > kEdgeStepRatio * across;
+  return step > std::max(kEdgeStepRatio * across, 0.5f * p_.run_gap_m) &&
+         std::abs(cloud.range_xy[next] - cloud.range_xy[far]) < 0.5f * step;
 }
 
 // Whether each return of [0, end) is continuous with the next one (run_column_gap,

@@ -263,61 +263,88 @@ TEST_CASE("column profiles: over the sensor a run goes on across two dropped col
   CHECK(crown_ground(1.7f) == 8);
 }
 
-TEST_CASE("column profiles: the road behind an object's foot, going on from the ring below",
+TEST_CASE("column profiles: the vehicle's road behind an object's foot is ground",
           "[detector][profiles]") {
   // Sim embankment_s1502 at 5 Hz (frame 1): ring 0 meets the road all along; ring 1 runs
   // along a parked car's foot, steps back past its corner onto the road's edge, level with
   // ring 0's road, over 1.7 m, then passes over the edge to the fields 2.9 m lower. The
   // car and the road are one run along the ring (the step within the run gap), short and
   // open at both ends: it stood out whole (rule 5) and the road's edge was lost. Ranges
-  // are scaled to the scan's 1-degree columns.
-  struct Ring1 {
-    float corner_r = 4.65f;  // the car's foot where the ring leaves it (the road is 5 m out)
-    int road_end = 41;       // the road's last column on ring 1
+  // are scaled to the scan's 1-degree columns (a step back 5 times the distance across the
+  // rays, within the run gap, lies within 4.5 m).
+  struct Scene {
+    float road_r = 3.5f;     // the road's range on the ring
+    float corner_r = 3.16f;  // the car's foot where the ring leaves it
+    int road_end = 49;       // the road's last column on the ring
+    float road_step = 0.f;   // how much farther each of its columns is than the one before
     int low_start = 0;       // columns 10 to low_start - 1 of the car: low, nothing over them
+    // The ring is ring 0, the column's first return (embankment_s2302 dual: the car beside
+    // the vehicle), not ring 1 over ring 0's road.
+    bool lowest = false;
   };
-  const auto road_ground = [](const Ring1& ring1) {
+  const auto road_ground = [](const Scene& scene) {
     Scan s;
-    for (int col = 0; col <= 84; ++col) add(s, 0, col, 4.2f, -0.08f, 1);
+    const int ring = scene.lowest ? 0 : 1;
+    if (!scene.lowest) {
+      for (int col = 0; col <= 84; ++col) add(s, 0, col, scene.road_r - 0.9f, -0.08f, 1);
+    }
     for (int col = 0; col <= 84; ++col) {
       if (col < 10) {
-        add(s, 1, col, 5.f, -0.08f, 1);  // the road before the car
-      } else if (col < 30) {             // the car's foot, coming out to its corner
+        add(s, ring, col, scene.road_r, -0.08f, 1);  // the road before the car
+      } else if (col < 30) {                         // the car's foot, coming out to its corner
         const float t = static_cast<float>(col - 10) / 19.f;
-        const float z = col < ring1.low_start ? -0.06f : 0.15f - 0.15f * t;
-        add(s, 1, col, 4.4f + t * (ring1.corner_r - 4.4f), z, 2);
-      } else if (col <= ring1.road_end) {
-        add(s, 1, col, 5.f, -0.08f, 1);
+        const float z = col < scene.low_start ? -0.06f : 0.15f - 0.15f * t;
+        const float foot_r = scene.road_r - 0.6f;
+        add(s, ring, col, foot_r + t * (scene.corner_r - foot_r), z, 2);
+      } else if (col <= scene.road_end) {
+        add(s, ring, col, scene.road_r + scene.road_step * static_cast<float>(col - 30), -0.08f, 1);
       } else {
-        add(s, 1, col, 20.7f, -2.93f, 1);  // the fields
+        add(s, ring, col, 20.7f, -2.93f, 1);  // the fields
       }
     }
-    for (int col = ring1.low_start > 0 ? ring1.low_start : 10; col <= 84; ++col) {
+    for (int col = scene.low_start > 0 ? scene.low_start : 10; col <= 84; ++col) {
       if (col < 30) {  // the car's side over its foot, then the fields
-        add(s, 2, col, 4.4f, 0.4f, 2);
+        add(s, ring + 1, col, scene.road_r - 0.6f, 0.4f, 2);
       } else {
-        add(s, 2, col, 24.6f, -2.93f, 1);
+        add(s, ring + 1, col, 24.6f, -2.93f, 1);
       }
     }
-    for (int col = std::max(10, ring1.low_start); col < 30; ++col) add(s, 3, col, 4.4f, 0.7f, 2);
+    for (int col = std::max(10, scene.low_start); col < 30; ++col) {
+      add(s, ring + 2, col, scene.road_r - 0.6f, 0.7f, 2);
+    }
     const auto ground = label(s).ground;
     int n = 0;
     for (std::size_t i = 0; i < ground.size(); ++i) {
       const int col = s.cloud.column[i];
-      if (s.cloud.ring[i] == 1 && col >= 30 && col <= ring1.road_end) n += ground[i];
+      if (s.cloud.ring[i] == ring && col >= 30 && col <= scene.road_end) n += ground[i];
     }
     return n;
   };
-  CHECK(road_ground({}) == 12);
+  CHECK(road_ground({}) == 20);
+  CHECK(road_ground({.lowest = true}) == 20);
   // The ring going on smoothly from the object (no step back past an edge): the object's
   // own surface, level with the road past the road's edge (embankment_s2204 tilted: a bush
   // on the levee's side), stands out with it.
-  CHECK(road_ground({.corner_r = 4.97f}) == 0);
+  CHECK(road_ground({.corner_r = 3.45f}) == 0);
+  // A step back of 0.23 m over 0.06 m across: an oblique face seen by columns far apart (a
+  // wall's foot at 20 Hz), no edge.
+  CHECK(road_ground({.corner_r = 3.27f}) == 0);
+  // The ring stepping on past the edge as far again at every column: a surface running
+  // along the rays (a car's side seen end-on, level with the road: hills_s3101), no edge.
+  CHECK(road_ground({.road_end = 35, .road_step = 0.34f}) == 0);
+  // Close in, a step back within 11 degrees of the rays but under half the run gap's base
+  // (0.15 m): range noise along an oblique wall's foot (embankment_s2005 at 5 Hz: 0.07 m
+  // over 0.02 m across), no edge.
+  CHECK(road_ground({.road_r = 1.4f, .corner_r = 1.26f, .road_end = 70}) == 0);
+  CHECK(road_ground({.road_r = 1.4f, .corner_r = 1.2f, .road_end = 70}) == 41);
   // The road's part shorter than shadow_anchor_m (0.7 m): nothing vouches for it.
   CHECK(road_ground({.road_end = 36}) == 0);
-  // Nor when the walk took returns of the rest (the object's low end, level with the road
-  // and nothing over it): no object in front of the road alone; the whole stands out.
-  CHECK(road_ground({.low_start = 14}) == 0);
+  // The object's low end, level with the road and nothing over it, taken by the walk: the
+  // object is still in front of the road.
+  CHECK(road_ground({.low_start = 14}) == 20);
+  // Nothing of the run refused by the walk (the whole foot low, nothing over it): no object
+  // in front of the road; the whole stands out.
+  CHECK(road_ground({.low_start = 30}) == 0);
 }
 
 TEST_CASE("column profiles: the vehicle's road seen by any two consecutive rings is ground",
