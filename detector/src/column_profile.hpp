@@ -381,8 +381,8 @@ class ColumnProfiles {
   [[nodiscard]] bool under_half_turn(const Cloud& cloud, std::size_t a, std::size_t b) const;
   void remove_silhouette(const Cloud& cloud, const RingRun& run, const RingRun* before);
   [[nodiscard]] bool carries_vehicle_road(const Cloud& cloud, std::size_t i) const;
-  bool road_behind_object(const Cloud& cloud, const RingRun& run, std::size_t& keep_a,
-                          std::size_t& keep_b) const;
+  [[nodiscard]] bool road_behind_object(const Cloud& cloud, const RingRun& run, std::size_t& keep_a,
+                                        std::size_t& keep_b) const;
   [[nodiscard]] bool steps_behind(const Cloud& cloud, std::size_t near, std::size_t far,
                                   std::size_t next) const;
   std::vector<RingRun> runs_;  // every ring's runs (strongest layer), in ring order

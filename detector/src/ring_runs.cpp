@@ -458,13 +458,14 @@ void ColumnProfiles::remove_silhouette(const Cloud& cloud, const RingRun& run,
     }
   }
   if (road_first != kNone && apart(cloud, road_first, road_last, p_.shadow_anchor_m)) return;
-  // The object in front of a road part alone, where the run is both.
+  // Where the run is an object and the road behind it, the object alone (not across the
+  // frame's edge).
   Index keep_a = kNone, keep_b = kNone;
-  if (before == nullptr) road_behind_object(cloud, run, keep_a, keep_b);
+  const bool keeps_road = before == nullptr && road_behind_object(cloud, run, keep_a, keep_b);
   for (const RingRun* part : {before, &run}) {
     if (part == nullptr) continue;
     for (Index i = part->a; i <= part->b; ++i) {
-      if (keep_a == kNone || i < keep_a || i > keep_b) points_[position_[i]].ground = 0;
+      if (!keeps_road || i < keep_a || i > keep_b) points_[position_[i]].ground = 0;
     }
   }
 }
