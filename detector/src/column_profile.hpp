@@ -191,6 +191,12 @@ struct ProfileParams {
   // shadow_anchor_m on each side (a lone ground return on a fence line anchors nothing).
   // So are single rises under the ground the vehicle stands on (a levee's side).
   float shadow_band_m = 0.2f, shadow_anchor_m = 0.7f;
+  // The vehicle's road behind an object's foot (rule 5, road_behind_object): carrying the
+  // vehicle's road over road_behind_min_rad of the ring (at least road_behind_min_m, at most
+  // shadow_anchor_m), the ring stepping back onto it past the object's edge by more than
+  // edge_step_ratio times the distance across the rays and more than edge_step_min_m.
+  float road_behind_min_m = 0.4f, road_behind_min_rad = 0.04f;
+  float edge_step_ratio = 3.f, edge_step_min_m = 0.12f;
   // A ring's line along a wall (drop_wall_lines): returns continuous along the ring with a
   // steep return high on its face and at most this under it are the wall too.
   float wall_line_band_m = 0.25f;
@@ -385,6 +391,7 @@ class ColumnProfiles {
                                         std::size_t& keep_b) const;
   [[nodiscard]] bool steps_behind(const Cloud& cloud, std::size_t near, std::size_t far,
                                   std::size_t next) const;
+  [[nodiscard]] float road_anchor(float range_m) const;
   std::vector<RingRun> runs_;  // every ring's runs (strongest layer), in ring order
   // The previous frame's points_ and column_start_, swapped out at the end of label (no
   // copy), for a fragment going on from it (ProfileParams::continues_previous); and the end

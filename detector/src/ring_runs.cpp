@@ -484,7 +484,7 @@ bool ColumnProfiles::carries_vehicle_road(const Cloud& cloud, Index i) const {
 
 // Whether the run is an object joined to the road behind it, whose returns [keep_a, keep_b]
 // are then that road. The road lies at one end of the run, taken by the walk, carrying the
-// vehicle's road over shadow_anchor_m (carries_vehicle_road); the ring steps back onto it from
+// vehicle's road (carries_vehicle_road) over road_anchor(); the ring steps back onto it from
 // the object's edge (steps_behind); the object's part holds a return the walk refused (its
 // foot, level with the road, may have been taken where the rings over it did not return).
 // embankment_s1502 at 5 Hz: ring 1 along a car's foot, then 1.7 m of the road's edge, past
@@ -492,7 +492,7 @@ bool ColumnProfiles::carries_vehicle_road(const Cloud& cloud, Index i) const {
 bool ColumnProfiles::road_behind_object(const Cloud& cloud, const RingRun& run, Index& keep_a,
                                         Index& keep_b) const {
   const auto taken = [&](Index i) { return points_[position_[i]].ground != 0; };
-  // Whether the returns [from, to] carry the vehicle's road over shadow_anchor_m.
+  // Whether the returns [from, to] carry the vehicle's road over road_anchor().
   const auto carries_road = [&](Index from, Index to) {
     Index first = kNone, last = kNone;
     for (Index i = from; i <= to; ++i) {
@@ -500,7 +500,7 @@ bool ColumnProfiles::road_behind_object(const Cloud& cloud, const RingRun& run, 
       if (first == kNone) first = i;
       last = i;
     }
-    return first != kNone && apart(cloud, first, last, p_.shadow_anchor_m);
+    return first != kNone && apart(cloud, first, last, road_anchor(cloud.range_xy[first]));
   };
   Index lead = run.a;  // [run.a, lead): the leading part the walk took
   while (lead <= run.b && taken(lead)) ++lead;
@@ -528,20 +528,33 @@ bool ColumnProfiles::road_behind_object(const Cloud& cloud, const RingRun& run, 
   return false;
 }
 
+// How far along the ring the road behind an object must carry the vehicle's road, at
+// `range_m`: road_behind_min_rad of the ring, at least road_behind_min_m and at most
+// shadow_anchor_m. Close to the vehicle a levee's edge leaves 0.4-0.6 m of road past a
+// car's corner (embankment_s2604, embankment_s2303 tilted); 17-19 m out a low fence's foot
+// runs level with the road over as much (fences_s1802 at 5 Hz) and needs the whole anchor.
+float ColumnProfiles::road_anchor(float range_m) const {
+  return std::min(p_.shadow_anchor_m,
+                  std::max(p_.road_behind_min_m, p_.road_behind_min_rad * range_m));
+}
+
 // Whether the ring steps from return `near` back to `far` past an object's edge and goes on
-// from `far` to `next` as the surface behind it: farther by more than kEdgeStepRatio times the
-// distance across the ray between them (the surface joining them would lie within 11
-// degrees of the rays) and by more than half the run gap's base (over the range noise
-// between columns a few centimetres apart: an oblique wall's foot, embankment_s2005 at 5 Hz,
-// 0.07 m farther over 0.02 m across), then on to `next` by less than half that step (a
-// surface running along the rays steps on alike: a car's side seen end-on, hills_s3101).
+// from `far` to `next` as the surface behind it: farther by more than edge_step_ratio times
+// the distance across the ray between them (the surface joining them would lie within 18
+// degrees of the rays) and by more than edge_step_min_m (over the range noise between
+// columns a few centimetres apart: an oblique wall's foot, embankment_s2005 at 5 Hz, 0.07 m
+// farther over 0.02 m across; a low fence's oblique foot 18 m out at 5 Hz, fences_s1702,
+// 0.1 m over 0.03 m), then on to `next` by less than half that step (a surface
+// running along the rays steps on alike: a car's side seen end-on, hills_s3101). A car's
+// foot ending just short of the ring's road steps back by little (0.13-0.14 m:
+// embankment_s2205 dual and tilted); at 20 Hz the columns lie 0.4 degrees apart, and a
+// rounded corner steps back 0.32 m over 0.07 m across (embankment_s1502).
 bool ColumnProfiles::steps_behind(const Cloud& cloud, Index near, Index far, Index next) const {
-  constexpr float kEdgeStepRatio = 5.f;
   const float step = cloud.range_xy[far] - cloud.range_xy[near];
   const float nx = cloud.x[near] - p_.sensor_x, ny = cloud.y[near] - p_.sensor_y;
   const float fx = cloud.x[far] - p_.sensor_x, fy = cloud.y[far] - p_.sensor_y;
   const float across = std::abs(nx * fy - ny * fx) / cloud.range_xy[far];
-  return step > std::max(kEdgeStepRatio * across, 0.5f * p_.run_gap_m) &&
+  return step > std::max(p_.edge_step_ratio * across, p_.edge_step_min_m) &&
          std::abs(cloud.range_xy[next] - cloud.range_xy[far]) < 0.5f * step;
 }
 

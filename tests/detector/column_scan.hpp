@@ -80,16 +80,17 @@ struct Labels {
 // z = 0 and no trusted level-1 plane.
 // With `kept`, that instance labels the scan (it keeps the frame before); the scan is then a
 // fragment of a rotation going on from that frame when `continues_previous`.
+// `base` gives the other parameters (defaults: the detector's).
 inline Labels label_by_cell(const Scan& s, std::vector<float> level2, std::vector<float> plane,
                             const std::vector<bool>& measured, ColumnProfiles* kept = nullptr,
-                            bool continues_previous = false) {
+                            bool continues_previous = false, const ProfileParams& base = {}) {
   if (level2.empty()) level2.assign(s.cloud.size(), 0.f);
   if (plane.empty()) plane.assign(s.cloud.size(), std::nanf(""));
   std::vector<std::uint8_t> steep;
   mark_steep(s.cloud, steep);
   FaceTable faces;
   add_faces_across_gaps(s.cloud, faces, steep);  // as the detector gives the profiles
-  ProfileParams p;
+  ProfileParams p = base;
   p.sensor_z = 1.8f;  // mounting height known: the ground under the sensor is z = 0
   p.continues_previous = continues_previous;
   ColumnProfiles own;

@@ -281,6 +281,7 @@ TEST_CASE("column profiles: the vehicle's road behind an object's foot is ground
     // The ring is ring 0, the column's first return (embankment_s2302 dual: the car beside
     // the vehicle), not ring 1 over ring 0's road.
     bool lowest = false;
+    float road_behind_min_m = ProfileParams{}.road_behind_min_m;
   };
   const auto road_ground = [](const Scene& scene) {
     Scan s;
@@ -312,7 +313,11 @@ TEST_CASE("column profiles: the vehicle's road behind an object's foot is ground
     for (int col = std::max(10, scene.low_start); col < 30; ++col) {
       add(s, ring + 2, col, scene.road_r - 0.6f, 0.7f, 2);
     }
-    const auto ground = label(s).ground;
+    ProfileParams params;
+    params.road_behind_min_m = scene.road_behind_min_m;
+    const auto ground =
+        label_by_cell(s, {}, {}, std::vector<bool>(s.cloud.size(), false), nullptr, false, params)
+            .ground;
     int n = 0;
     for (std::size_t i = 0; i < ground.size(); ++i) {
       const int col = s.cloud.column[i];
@@ -326,19 +331,28 @@ TEST_CASE("column profiles: the vehicle's road behind an object's foot is ground
   // own surface, level with the road past the road's edge (embankment_s2204 tilted: a bush
   // on the levee's side), stands out with it.
   CHECK(road_ground({.corner_r = 3.45f}) == 0);
-  // A step back of 0.23 m over 0.06 m across: an oblique face seen by columns far apart (a
-  // wall's foot at 20 Hz), no edge.
-  CHECK(road_ground({.corner_r = 3.27f}) == 0);
+  // A step back of 0.15 m over 0.06 m across (the surface joining them more than 18 degrees
+  // off the rays): an oblique face seen by columns far apart (a wall's foot at 20 Hz), no
+  // edge; 0.23 m over as much is one (a car's rounded corner at 20 Hz, embankment_s1502).
+  CHECK(road_ground({.corner_r = 3.35f}) == 0);
+  CHECK(road_ground({.corner_r = 3.27f}) == 20);
   // The ring stepping on past the edge as far again at every column: a surface running
   // along the rays (a car's side seen end-on, level with the road: hills_s3101), no edge.
   CHECK(road_ground({.road_end = 35, .road_step = 0.34f}) == 0);
-  // Close in, a step back within 11 degrees of the rays but under half the run gap's base
-  // (0.15 m): range noise along an oblique wall's foot (embankment_s2005 at 5 Hz: 0.07 m
-  // over 0.02 m across), no edge.
-  CHECK(road_ground({.road_r = 1.4f, .corner_r = 1.26f, .road_end = 70}) == 0);
-  CHECK(road_ground({.road_r = 1.4f, .corner_r = 1.2f, .road_end = 70}) == 41);
-  // The road's part shorter than shadow_anchor_m (0.7 m): nothing vouches for it.
+  // Close in, a step back within 18 degrees of the rays but under edge_step_min_m (0.12 m):
+  // range noise along an oblique wall's foot (embankment_s2005 at 5 Hz: 0.07 m over 0.02 m
+  // across; a low fence's foot at 5 Hz, fences_s1702: 0.1 m), no edge; 0.13 m is one (a
+  // car's foot ending 0.13 m short of the ring's road, embankment_s2205 tilted).
+  CHECK(road_ground({.road_r = 1.4f, .corner_r = 1.3f, .road_end = 70}) == 0);
+  CHECK(road_ground({.road_r = 1.4f, .corner_r = 1.27f, .road_end = 70}) == 41);
+  // The road's part shorter than road_behind_min_m (0.4 m): nothing vouches for it; 0.43 m
+  // does (embankment_s2604: 0.43 m of road between a car's corner and the levee's edge).
   CHECK(road_ground({.road_end = 36}) == 0);
+  CHECK(road_ground({.road_end = 37}) == 8);
+  // ... nor one spanning under road_behind_min_rad (0.04) of the ring, however long it is
+  // (here with road_behind_min_m at 0.1 m): 2 degrees no, 3 degrees yes.
+  CHECK(road_ground({.road_end = 32, .road_behind_min_m = 0.1f}) == 0);
+  CHECK(road_ground({.road_end = 33, .road_behind_min_m = 0.1f}) == 4);
   // The object's low end, level with the road and nothing over it, taken by the walk: the
   // object is still in front of the road.
   CHECK(road_ground({.low_start = 14}) == 20);
