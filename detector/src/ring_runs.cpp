@@ -544,7 +544,7 @@ float ColumnProfiles::road_anchor(float range_m) const {
 // degrees of the rays) and by more than edge_step_min_m (over the range noise between
 // columns a few centimetres apart: an oblique wall's foot, embankment_s2005 at 5 Hz, 0.07 m
 // farther over 0.02 m across; a low fence's oblique foot 18 m out at 5 Hz, fences_s1702,
-// 0.1 m over 0.03 m), then on to `next` by less than half that step (a surface
+// 0.10-0.12 m over 0.03 m), then on to `next` by less than half that step (a surface
 // running along the rays steps on alike: a car's side seen end-on, hills_s3101). A car's
 // foot ending just short of the ring's road steps back by little (0.13-0.14 m:
 // embankment_s2205 dual and tilted); at 20 Hz the columns lie 0.4 degrees apart, and a
