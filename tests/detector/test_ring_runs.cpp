@@ -333,7 +333,8 @@ TEST_CASE("column profiles: the vehicle's road behind an object's foot is ground
   CHECK(road_ground({.corner_r = 3.45f}) == 0);
   // A step back of 0.15 m over 0.06 m across (the surface joining them more than 18 degrees
   // off the rays): an oblique face seen by columns far apart (a wall's foot at 20 Hz), no
-  // edge; 0.23 m over as much is one (a car's rounded corner at 20 Hz, embankment_s1502).
+  // edge; 0.23 m over as much is one (a car's foot stepping in and out, embankment_s2905:
+  // 0.12 m over 0.03 m).
   CHECK(road_ground({.corner_r = 3.35f}) == 0);
   CHECK(road_ground({.corner_r = 3.27f}) == 20);
   // The ring stepping on past the edge as far again at every column: a surface running
