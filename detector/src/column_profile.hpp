@@ -197,6 +197,8 @@ struct ProfileParams {
   // edge_step_ratio times the distance across the rays and more than edge_step_min_m.
   float road_behind_min_m = 0.4f, road_behind_min_rad = 0.04f;
   float edge_step_ratio = 3.f, edge_step_min_m = 0.12f;
+  // ... and, where the walk took the whole run, level with that road within this.
+  float whole_run_level_m = 0.05f;
   // A ring's line along a wall (drop_wall_lines): returns continuous along the ring with a
   // steep return high on its face and at most this under it are the wall too.
   float wall_line_band_m = 0.25f;
@@ -386,7 +388,8 @@ class ColumnProfiles {
                                             std::size_t start) const;
   [[nodiscard]] bool under_half_turn(const Cloud& cloud, std::size_t a, std::size_t b) const;
   void remove_silhouette(const Cloud& cloud, const RingRun& run, const RingRun* before);
-  [[nodiscard]] bool carries_vehicle_road(const Cloud& cloud, std::size_t i) const;
+  [[nodiscard]] bool carries_vehicle_road(const Cloud& cloud, std::size_t i,
+                                          float level_m = std::numeric_limits<float>::max()) const;
   [[nodiscard]] bool road_behind_object(const Cloud& cloud, const RingRun& run, std::size_t& keep_a,
                                         std::size_t& keep_b) const;
   [[nodiscard]] bool steps_behind(const Cloud& cloud, std::size_t near, std::size_t far,

@@ -472,12 +472,17 @@ void ColumnProfiles::remove_silhouette(const Cloud& cloud, const RingRun& run,
 
 // Whether return i carries the road the vehicle stands on: its column's first return, level
 // with the start (vehicle_ground), or the road going on from a lower ring's return there that
-// does not stand out (road_beyond).
-bool ColumnProfiles::carries_vehicle_road(const Cloud& cloud, Index i) const {
+// does not stand out (road_beyond); in either case within level_m in height of it.
+bool ColumnProfiles::carries_vehicle_road(const Cloud& cloud, Index i, float level_m) const {
   const Index k = position_[i], begin = column_start_[cloud.column[i]];
-  if (k == begin) return points_[k].vehicle_ground != 0;
+  if (k == begin) {
+    return points_[k].vehicle_ground != 0 && std::abs(cloud.z[i] - start_z_) <= level_m;
+  }
   for (Index j = begin; j < k; ++j) {
-    if (points_[j].road_beyond == i && stands_out_[points_[j].index] == 0) return true;
+    if (points_[j].road_beyond == i && stands_out_[points_[j].index] == 0 &&
+        std::abs(cloud.z[i] - cloud.z[points_[j].index]) <= level_m) {
+      return true;
+    }
   }
   return false;
 }
@@ -486,17 +491,19 @@ bool ColumnProfiles::carries_vehicle_road(const Cloud& cloud, Index i) const {
 // are then that road. The road lies at one end of the run, taken by the walk, carrying the
 // vehicle's road (carries_vehicle_road) over road_anchor(); the ring steps back onto it from
 // the object's edge (steps_behind); the object's part holds a return the walk refused (its
-// foot, level with the road, may have been taken where the rings over it did not return).
+// foot, level with the road, may have been taken where the rings over it did not return),
+// or the road part lies level with the road it carries (whole_run_level_m).
 // embankment_s1502 at 5 Hz: ring 1 along a car's foot, then 1.7 m of the road's edge, past
 // which it meets the fields 2.9 m lower.
 bool ColumnProfiles::road_behind_object(const Cloud& cloud, const RingRun& run, Index& keep_a,
                                         Index& keep_b) const {
   const auto taken = [&](Index i) { return points_[position_[i]].ground != 0; };
   // Whether the returns [from, to] carry the vehicle's road over road_anchor().
+  float level_m = std::numeric_limits<float>::max();  // any the walk's road_beyond allows
   const auto carries_road = [&](Index from, Index to) {
     Index first = kNone, last = kNone;
     for (Index i = from; i <= to; ++i) {
-      if (!carries_vehicle_road(cloud, i)) continue;
+      if (!carries_vehicle_road(cloud, i, level_m)) continue;
       if (first == kNone) first = i;
       last = i;
     }
@@ -504,9 +511,19 @@ bool ColumnProfiles::road_behind_object(const Cloud& cloud, const RingRun& run, 
   };
   Index lead = run.a;  // [run.a, lead): the leading part the walk took
   while (lead <= run.b && taken(lead)) ++lead;
-  if (lead > run.b) return false;  // all taken: no object in it
-  Index trail = run.b;             // (trail, run.b]: the trailing part the walk took
-  while (taken(trail)) --trail;
+  Index trail = run.b;  // (trail, run.b]: the trailing part the walk took
+  if (lead > run.b) {
+    // The walk took the whole run (the object's foot too low for it, a car's sill 0.05-0.1 m
+    // over the road, embankment_s1502 at 20 Hz): an edge anywhere, and the road part level
+    // with the road it carries
+    // within whole_run_level_m, not the walk's 0.15 m (a low fence's line 19 m out goes on
+    // from the road by that: fences_s1502 at 5 Hz).
+    level_m = p_.whole_run_level_m;
+    lead = run.b;
+    trail = run.a;
+  } else {
+    while (taken(trail)) --trail;
+  }
   // The road before the object: the edge nearest the refused returns.
   for (Index e = lead; e > run.a + 1; --e) {
     if (!steps_behind(cloud, e, e - 1, e - 2)) continue;

@@ -282,6 +282,7 @@ TEST_CASE("column profiles: the vehicle's road behind an object's foot is ground
     // the vehicle), not ring 1 over ring 0's road.
     bool lowest = false;
     float road_behind_min_m = ProfileParams{}.road_behind_min_m;
+    float road_z = -0.08f;  // the height of the ring's road part (ring 0's road: -0.08 m)
   };
   const auto road_ground = [](const Scene& scene) {
     Scan s;
@@ -298,7 +299,8 @@ TEST_CASE("column profiles: the vehicle's road behind an object's foot is ground
         const float foot_r = scene.road_r - 0.6f;
         add(s, ring, col, foot_r + t * (scene.corner_r - foot_r), z, 2);
       } else if (col <= scene.road_end) {
-        add(s, ring, col, scene.road_r + scene.road_step * static_cast<float>(col - 30), -0.08f, 1);
+        add(s, ring, col, scene.road_r + scene.road_step * static_cast<float>(col - 30),
+            scene.road_z, 1);
       } else {
         add(s, ring, col, 20.7f, -2.93f, 1);  // the fields
       }
@@ -357,9 +359,15 @@ TEST_CASE("column profiles: the vehicle's road behind an object's foot is ground
   // The object's low end, level with the road and nothing over it, taken by the walk: the
   // object is still in front of the road.
   CHECK(road_ground({.low_start = 14}) == 20);
-  // Nothing of the run refused by the walk (the whole foot low, nothing over it): no object
-  // in front of the road; the whole stands out.
-  CHECK(road_ground({.low_start = 30}) == 0);
+  // The road part 0.1 m over the road it goes on from: still the vehicle's road by the
+  // walk's measure (0.15 m).
+  CHECK(road_ground({.road_z = 0.02f}) == 20);
+  // Nothing of the run refused by the walk (the whole foot low, nothing over it:
+  // embankment_s1502 at 20 Hz): the road part is kept only level with the road it goes on
+  // from within whole_run_level_m (0.05 m), not 0.1 m over it (a low fence's line going on
+  // from the road, fences_s1502 at 5 Hz).
+  CHECK(road_ground({.low_start = 30}) == 20);
+  CHECK(road_ground({.low_start = 30, .road_z = 0.02f}) == 0);
 }
 
 TEST_CASE("column profiles: the vehicle's road seen by any two consecutive rings is ground",
