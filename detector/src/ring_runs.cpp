@@ -498,8 +498,15 @@ bool ColumnProfiles::carries_vehicle_road(const Cloud& cloud, Index i, float lev
 bool ColumnProfiles::road_behind_object(const Cloud& cloud, const RingRun& run, Index& keep_a,
                                         Index& keep_b) const {
   const auto taken = [&](Index i) { return points_[position_[i]].ground != 0; };
+  Index lead = run.a;  // [run.a, lead): the leading part the walk took
+  while (lead <= run.b && taken(lead)) ++lead;
+  // The walk took the whole run (the object's foot too low for it, a car's sill 0.05-0.1 m
+  // over the road, embankment_s1502 at 20 Hz): an edge anywhere, and the road part level
+  // with the road it carries within whole_run_level_m, not the walk's 0.15 m (a low
+  // fence's line 19 m out goes on from the road by that: fences_s1502 at 5 Hz).
+  const bool whole = lead > run.b;
+  const float level_m = whole ? p_.whole_run_level_m : std::numeric_limits<float>::max();
   // Whether the returns [from, to] carry the vehicle's road over road_anchor().
-  float level_m = std::numeric_limits<float>::max();  // any the walk's road_beyond allows
   const auto carries_road = [&](Index from, Index to) {
     Index first = kNone, last = kNone;
     for (Index i = from; i <= to; ++i) {
@@ -509,16 +516,8 @@ bool ColumnProfiles::road_behind_object(const Cloud& cloud, const RingRun& run, 
     }
     return first != kNone && apart(cloud, first, last, road_anchor(cloud.range_xy[first]));
   };
-  Index lead = run.a;  // [run.a, lead): the leading part the walk took
-  while (lead <= run.b && taken(lead)) ++lead;
   Index trail = run.b;  // (trail, run.b]: the trailing part the walk took
-  if (lead > run.b) {
-    // The walk took the whole run (the object's foot too low for it, a car's sill 0.05-0.1 m
-    // over the road, embankment_s1502 at 20 Hz): an edge anywhere, and the road part level
-    // with the road it carries
-    // within whole_run_level_m, not the walk's 0.15 m (a low fence's line 19 m out goes on
-    // from the road by that: fences_s1502 at 5 Hz).
-    level_m = p_.whole_run_level_m;
+  if (whole) {
     lead = run.b;
     trail = run.a;
   } else {

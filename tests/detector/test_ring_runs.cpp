@@ -270,8 +270,8 @@ TEST_CASE("column profiles: the vehicle's road behind an object's foot is ground
   // ring 0's road, over 1.7 m, then passes over the edge to the fields 2.9 m lower. The
   // car and the road are one run along the ring (the step within the run gap), short and
   // open at both ends: it stood out whole (rule 5) and the road's edge was lost. Ranges
-  // are scaled to the scan's 1-degree columns (a step back 5 times the distance across the
-  // rays, within the run gap, lies within 4.5 m).
+  // are scaled to the scan's 1-degree columns (a step back 3 times the distance across the
+  // rays, within the run gap, lies within 9 m).
   struct Scene {
     float road_r = 3.5f;     // the road's range on the ring
     float corner_r = 3.16f;  // the car's foot where the ring leaves it
@@ -344,7 +344,7 @@ TEST_CASE("column profiles: the vehicle's road behind an object's foot is ground
   CHECK(road_ground({.road_end = 35, .road_step = 0.34f}) == 0);
   // Close in, a step back within 18 degrees of the rays but under edge_step_min_m (0.12 m):
   // range noise along an oblique wall's foot (embankment_s2005 at 5 Hz: 0.07 m over 0.02 m
-  // across; a low fence's foot at 5 Hz, fences_s1702: 0.1 m), no edge; 0.13 m is one (a
+  // across; a low fence's foot at 5 Hz, fences_s1702: 0.10-0.12 m), no edge; 0.13 m is one (a
   // car's foot ending 0.13 m short of the ring's road, embankment_s2205 tilted).
   CHECK(road_ground({.road_r = 1.4f, .corner_r = 1.3f, .road_end = 70}) == 0);
   CHECK(road_ground({.road_r = 1.4f, .corner_r = 1.27f, .road_end = 70}) == 41);
