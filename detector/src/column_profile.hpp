@@ -199,6 +199,9 @@ struct ProfileParams {
   float edge_step_ratio = 3.f, edge_step_min_m = 0.12f;
   // ... and, where the walk took the whole run, level with that road within this.
   float whole_run_level_m = 0.05f;
+  // The vehicle's road seen through a gap in an object (drop_all_but_road_through_gaps):
+  // level with the lower ring's road within whole_run_level_m, at most this farther.
+  float gap_road_reach_m = 2.f;
   // A ring's line along a wall (drop_wall_lines): returns continuous along the ring with a
   // steep return high on its face and at most this under it are the wall too.
   float wall_line_band_m = 0.25f;
@@ -390,8 +393,13 @@ class ColumnProfiles {
   void remove_silhouette(const Cloud& cloud, const RingRun& run, const RingRun* before);
   [[nodiscard]] bool carries_vehicle_road(const Cloud& cloud, std::size_t i,
                                           float level_m = std::numeric_limits<float>::max()) const;
+  [[nodiscard]] bool goes_on_from_road(const Cloud& cloud, std::size_t i, float level_m,
+                                       float reach_m) const;
   [[nodiscard]] bool road_behind_object(const Cloud& cloud, const RingRun& run, std::size_t& keep_a,
                                         std::size_t& keep_b) const;
+  void drop_run(const RingRun& run, std::size_t keep_a, std::size_t keep_b);
+  void drop_all_but_road_through_gaps(const Cloud& cloud, const RingRun& run);
+  [[nodiscard]] bool steps_back(const Cloud& cloud, std::size_t near, std::size_t far) const;
   [[nodiscard]] bool steps_behind(const Cloud& cloud, std::size_t near, std::size_t far,
                                   std::size_t next) const;
   [[nodiscard]] float road_anchor(float range_m) const;

@@ -370,6 +370,66 @@ TEST_CASE("column profiles: the vehicle's road behind an object's foot is ground
   CHECK(road_ground({.low_start = 30, .road_z = 0.02f}) == 0);
 }
 
+TEST_CASE("column profiles: the vehicle's road seen through gaps in an object's foot is ground",
+          "[detector][profiles]") {
+  // Sim embankment_s3401 tilted (frame 4): ring 3 runs along a car's ragged foot 9.3-9.4 m
+  // out and sees the road 9.8 m out, level with ring 2's, through two gaps in it, one
+  // column each. The car, gaps and all, is one short run along the ring (the steps within
+  // the run gap), open at both ends: it stood out whole (rule 5) and took the road with it.
+  // Here ring 1 along a car's foot 3.2 m out, the road 3.5 m out.
+  struct Gap {
+    float r = 3.5f;        // the gap's return: the road past the foot
+    float z = -0.08f;      // level with ring 0's road
+    int last = 20;         // the gap's columns: 20 to last (20 to 40: the car)
+    float foot_b = 3.2f;   // the foot's range in columns 3, 7, 11, ... (the others: 3.2 m)
+    float lower_r = 2.6f;  // ring 0's road, which the gaps' road goes on from
+  };
+  const auto gap_ground = [](const Gap& gap) {
+    Scan s;
+    for (int col = 0; col <= 84; ++col) add(s, 0, col, gap.lower_r, -0.08f, 1);
+    for (int col = 0; col <= 84; ++col) {
+      if (col < 20 || col > 40) {
+        add(s, 1, col, 20.7f, -2.93f, 1);  // the fields past the levee's edge
+      } else if (col <= gap.last && col % 2 == 0) {
+        add(s, 1, col, gap.r, gap.z, 1);  // the road through the foot's gaps
+      } else {
+        add(s, 1, col, col % 4 == 3 ? gap.foot_b : 3.2f, 0.1f, 2);  // the car's foot
+      }
+    }
+    for (int col = 0; col <= 84; ++col) {  // the car's side; the road through its gaps
+      const bool car = col >= 20 && col <= 40, through = car && col <= gap.last && col % 2 == 0;
+      if (through) {
+        add(s, 2, col, 4.6f, -0.08f, 1);
+      } else {
+        add(s, 2, col, car ? 3.2f : 24.6f, car ? 0.4f : -2.93f, car ? 2 : 1);
+      }
+    }
+    for (int col = 20; col <= 40; ++col) add(s, 3, col, 3.2f, 0.7f, 2);
+    const auto ground = label(s).ground;
+    int n = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      const int col = s.cloud.column[i];
+      if (s.cloud.ring[i] == 1 && col > 20 && col <= 40 && col % 2 == 0) n += ground[i];
+    }
+    return n;
+  };
+  CHECK(gap_ground({.last = 28}) == 4);  // columns 22, 24, 26, 28
+  // Level with the road within whole_run_level_m (0.05 m), not 0.1 m over it: a return
+  // through a gap in a low fence, on something behind it.
+  CHECK(gap_ground({.z = 0.02f, .last = 28}) == 0);
+  // The ring stepping back onto it by under edge_step_min_m (0.12 m): the foot's own range
+  // noise.
+  CHECK(gap_ground({.r = 3.3f, .last = 28}) == 0);
+  // The ring stepping back onto it on one side only, the foot 0.05 m nearer on the other:
+  // not a gap in the object.
+  CHECK(gap_ground({.last = 28, .foot_b = 3.45f}) == 0);
+  // Going on from ring 0's road 2.1 m nearer, over gap_road_reach_m (2 m): the road's edge
+  // may lie between the two rings (a bush's top over the fields, embankment_s1205 tilted);
+  // 1.9 m is within it.
+  CHECK(gap_ground({.last = 28, .lower_r = 1.4f}) == 0);
+  CHECK(gap_ground({.last = 28, .lower_r = 1.6f}) == 4);
+}
+
 TEST_CASE("column profiles: the vehicle's road seen by any two consecutive rings is ground",
           "[detector][profiles]") {
   // Sim embankment_s304 (frame 1): behind the vehicle rings 0, 1 and 3 run on along the
