@@ -490,13 +490,18 @@ void ColumnProfiles::drop_all_but_road_through_gaps(const Cloud& cloud, const Ri
     return points_[position_[i]].ground != 0 &&
            goes_on_from_road(cloud, i, p_.whole_run_level_m, p_.gap_road_reach_m);
   };
+  // Most of an object's returns: not taken, or no step back by the floor (the cheap tests).
+  const auto stepped = [&](Index near, Index far) {
+    return cloud.range_xy[far] - cloud.range_xy[near] > p_.edge_step_min_m &&
+           steps_back(cloud, near, far);
+  };
   Index i = run.a;
   while (i <= run.b) {
     Index end = i;  // [i, end): level road stepped back onto from the run's return before
-    if (i > run.a && steps_back(cloud, i - 1, i)) {
+    if (i > run.a && points_[position_[i]].ground != 0 && stepped(i - 1, i)) {
       while (end <= run.b && level_road(end)) ++end;
     }
-    if (end > i && end <= run.b && steps_back(cloud, end, end - 1)) {
+    if (end > i && end <= run.b && stepped(end, end - 1)) {
       i = end;  // seen through a gap: kept
       continue;
     }
