@@ -459,7 +459,7 @@ void ColumnProfiles::remove_silhouette(const Cloud& cloud, const RingRun& run,
   }
   if (road_first != kNone && apart(cloud, road_first, road_last, p_.shadow_anchor_m)) return;
   // Where the run is an object and the road behind it, the object alone (not across the
-  // frame's edge).
+  // frame's edge); else the whole object but for the road seen through gaps in it.
   Index keep_a = kNone, keep_b = kNone;
   const bool keeps_road = before == nullptr && road_behind_object(cloud, run, keep_a, keep_b);
   if (before != nullptr) drop_run(*before, kNone, kNone);
@@ -490,18 +490,14 @@ void ColumnProfiles::drop_all_but_road_through_gaps(const Cloud& cloud, const Ri
     return points_[position_[i]].ground != 0 &&
            goes_on_from_road(cloud, i, p_.whole_run_level_m, p_.gap_road_reach_m);
   };
-  // Most of an object's returns: not taken, or no step back by the floor (the cheap tests).
-  const auto stepped = [&](Index near, Index far) {
-    return cloud.range_xy[far] - cloud.range_xy[near] > p_.edge_step_min_m &&
-           steps_back(cloud, near, far);
-  };
   Index i = run.a;
   while (i <= run.b) {
     Index end = i;  // [i, end): level road stepped back onto from the run's return before
-    if (i > run.a && points_[position_[i]].ground != 0 && stepped(i - 1, i)) {
+    // Most of an object's returns fail the cheap test, whether the walk took them, first.
+    if (i > run.a && points_[position_[i]].ground != 0 && steps_back(cloud, i - 1, i)) {
       while (end <= run.b && level_road(end)) ++end;
     }
-    if (end > i && end <= run.b && stepped(end, end - 1)) {
+    if (end > i && end <= run.b && steps_back(cloud, end, end - 1)) {
       i = end;  // seen through a gap: kept
       continue;
     }
@@ -626,10 +622,11 @@ bool ColumnProfiles::steps_behind(const Cloud& cloud, Index near, Index far, Ind
 // than edge_step_min_m (steps_behind).
 bool ColumnProfiles::steps_back(const Cloud& cloud, Index near, Index far) const {
   const float step = cloud.range_xy[far] - cloud.range_xy[near];
+  if (!(step > p_.edge_step_min_m)) return false;  // the cheap test first
   const float nx = cloud.x[near] - p_.sensor_x, ny = cloud.y[near] - p_.sensor_y;
   const float fx = cloud.x[far] - p_.sensor_x, fy = cloud.y[far] - p_.sensor_y;
   const float across = std::abs(nx * fy - ny * fx) / cloud.range_xy[far];
-  return step > std::max(p_.edge_step_ratio * across, p_.edge_step_min_m);
+  return step > p_.edge_step_ratio * across;
 }
 
 // Whether each return of [0, end) is continuous with the next one (run_column_gap,
