@@ -380,8 +380,8 @@ TEST_CASE("column profiles: the vehicle's road seen through gaps in an object's 
   struct Gap {
     float r = 3.5f;        // the gap's return: the road past the foot
     float z = -0.08f;      // level with ring 0's road
-    int last = 20;         // the gap's columns: 20 to last (20 to 40: the car)
-    float foot_b = 3.2f;   // the foot's range in columns 3, 7, 11, ... (the others: 3.2 m)
+    int last = 20;         // the gaps: the even columns from 20 to last (20 to 40: the car)
+    float foot_b = 3.2f;   // the foot's range in columns 23, 27, 31, ... (the others: 3.2 m)
     float lower_r = 2.6f;  // ring 0's road, which the gaps' road goes on from
   };
   const auto gap_ground = [](const Gap& gap) {
