@@ -397,6 +397,8 @@ class ColumnProfiles {
                                        float reach_m) const;
   [[nodiscard]] bool road_behind_object(const Cloud& cloud, const RingRun& run, std::size_t& keep_a,
                                         std::size_t& keep_b) const;
+  // Whether return i (cloud index, strongest layer) is ground by the walk, not dropped since.
+  [[nodiscard]] bool taken(std::size_t i) const { return points_[position_[i]].ground != 0; }
   void drop_run(const RingRun& run, std::size_t keep_a, std::size_t keep_b);
   void drop_all_but_road_through_gaps(const Cloud& cloud, const RingRun& run);
   [[nodiscard]] bool steps_back(const Cloud& cloud, std::size_t near, std::size_t far) const;

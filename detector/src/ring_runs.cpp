@@ -487,14 +487,13 @@ void ColumnProfiles::drop_run(const RingRun& run, Index keep_a, Index keep_b) {
 // fields 25 m out, level with the lower ring's road 8 m nearer (embankment_s1205 tilted).
 void ColumnProfiles::drop_all_but_road_through_gaps(const Cloud& cloud, const RingRun& run) {
   const auto level_road = [&](Index i) {
-    return points_[position_[i]].ground != 0 &&
-           goes_on_from_road(cloud, i, p_.whole_run_level_m, p_.gap_road_reach_m);
+    return taken(i) && goes_on_from_road(cloud, i, p_.whole_run_level_m, p_.gap_road_reach_m);
   };
   Index i = run.a;
   while (i <= run.b) {
     Index end = i;  // [i, end): level road stepped back onto from the run's return before
     // Most of an object's returns fail the cheap test, whether the walk took them, first.
-    if (i > run.a && points_[position_[i]].ground != 0 && steps_back(cloud, i - 1, i)) {
+    if (i > run.a && taken(i) && steps_back(cloud, i - 1, i)) {
       while (end <= run.b && level_road(end)) ++end;
     }
     if (end > i && end <= run.b && steps_back(cloud, end, end - 1)) {
@@ -543,7 +542,6 @@ bool ColumnProfiles::goes_on_from_road(const Cloud& cloud, Index i, float level_
 // which it meets the fields 2.9 m lower.
 bool ColumnProfiles::road_behind_object(const Cloud& cloud, const RingRun& run, Index& keep_a,
                                         Index& keep_b) const {
-  const auto taken = [&](Index i) { return points_[position_[i]].ground != 0; };
   Index lead = run.a;  // [run.a, lead): the leading part the walk took
   while (lead <= run.b && taken(lead)) ++lead;
   // The walk took the whole run (the object's foot too low for it, a car's sill 0.05-0.1 m
