@@ -138,8 +138,9 @@ struct ProfileParams {
   // fence top seen by two rings), however they vouch for each other.
   float bump_group_max_m = 4.f;
   // ... unless they lie along at least this, rising on as the chord from the ground before
-  // them does, with the ground after them more than drop_m under the ground before: a
-  // crest's top (crest_top).
+  // them does, with the ground after them more than drop_m under the ground before, or, as
+  // the column's first ground, over a level-2 surface more than drop_m under the ground
+  // under the vehicle: a crest's top (crest_top).
   float crest_min_m = 1.f;
   // A rise of the profile over single_rise_m between two ground returns of a column is
   // refuted by a ground return of a column at most this far to the side, between the two
@@ -291,7 +292,7 @@ class ColumnProfiles {
   bool drop_raised_groups(std::size_t begin, std::size_t end);
   [[nodiscard]] bool top_at_column_end(std::size_t first, std::size_t last, bool column_first) const;
   [[nodiscard]] bool crest_top(std::size_t first, std::size_t last, std::size_t after,
-                               float before_r, float before_z) const;
+                               float before_r, float before_z, bool from_start) const;
   [[nodiscard]] bool any_steep(std::size_t first, std::size_t last) const;
   void drop_orphaned_feet(std::size_t begin, std::size_t end);
   void check_single_rises(const Cloud& cloud, std::size_t begin, std::size_t end);

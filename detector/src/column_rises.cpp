@@ -109,7 +109,7 @@ bool ColumnProfiles::drop_raised_groups(Index begin, Index end) {
       for (Index g = k; g <= last && drop; ++g) {
         drop = !is_ground_neighbour(g) || points_[g].z > floor_z;
       }
-      drop = drop && !crest_top(k, last, after, before_r, before_z);
+      drop = drop && !crest_top(k, last, after, before_r, before_z, !ground_before);
     }
     for (Index g = k; g <= last && drop; ++g) {
       if (!is_ground_neighbour(g)) continue;
@@ -123,20 +123,30 @@ bool ColumnProfiles::drop_raised_groups(Index begin, Index end) {
 }
 
 // Whether the raised group [first, last], standing out of the ground before it (at before_r,
-// before_z: the start, or the column's last ground return) and of the ground return
-// `after` it, is a crest the column passes over, not an object on the ground: it lies along
-// at least crest_min_m, rising on from its first return as the chord from the ground before
-// it rises to that return (within resume_gradient_change), and the ground after it lies
-// more than drop_m under the ground before (the far side falling away). A roof or a box's
-// top is level; an object on level ground has that ground behind it (fences_s2 at Hi-Res:
-// a box 0.8-0.95 m tall 7-8 m out, its top rising on the chord from the start by chance).
-// The vehicle just below a hill's top, the lowest rings on the top 0.6-0.8 m up, the next
-// on the far side 56 m out and 2.7 m lower (hills_s2304 at Hi-Res).
-bool ColumnProfiles::crest_top(Index first, Index last, Index after, float before_r,
-                               float before_z) const {
+// before_z: the start, or the column's last ground return, `from_start` telling which) and
+// of the ground return `after` it, is a crest the column passes over, not an object on the
+// ground: it lies along at least crest_min_m, rising on from its first return as the chord
+// from the ground before it rises to that return (within resume_gradient_change), and
+// - the ground after it lies more than drop_m under the ground before (the far side falling
+//   away): the vehicle just below a hill's top, the lowest rings on the top 0.6-0.8 m up,
+//   the next on the far side 56 m out and 2.7 m lower (hills_s2304 at Hi-Res); or
+// - it is the column's first ground and the level-2 surface under its first return lies
+//   more than drop_m under the ground under the vehicle: the cells carried the vehicle's
+//   surface down where the terrain climbs, so they show no level ground an object could
+//   stand on. The vehicle in a hollow, a hill's flank rising behind it at 0.1 to 1 m up
+//   10 m out (rings 0-4), its far side levelling out near the vehicle's height 30 m out,
+//   where the cells lie 1.1-1.6 m under the flank (hills_s2305 at Hi-Res).
+// A roof or a box's top is level; an object on level ground has that ground behind it and
+// under it (fences_s2 at Hi-Res: a box 0.8-0.95 m tall 7-8 m out, its top rising on the
+// chord from the start by chance; fences_s2803 at Hi-Res: a box 0.5-0.7 m tall 8-10 m out,
+// the cells on the road under it).
+bool ColumnProfiles::crest_top(Index first, Index last, Index after, float before_r, float before_z,
+                               bool from_start) const {
   const ColumnPoint &a = points_[first], &b = points_[last];
   if (b.r - a.r < p_.crest_min_m || a.r <= before_r) return false;
-  if (!(points_[after].z < before_z - p_.drop_m)) return false;
+  const bool far_side_falls = points_[after].z < before_z - p_.drop_m;
+  const bool level2_falls_away = from_start && a.z - a.level2_h < start_z_ - p_.drop_m;
+  if (!far_side_falls && !level2_falls_away) return false;
   const float chord = (a.z - before_z) / (a.r - before_r);
   const float along = (b.z - a.z) / (b.r - a.r);
   return std::abs(along - chord) <= p_.resume_gradient_change;

@@ -299,6 +299,50 @@ TEST_CASE("column profiles: a raised group that goes on rising as the chord to i
   CHECK(crest({0.6f, 0.68f, -2.71f}, {7.07f, 7.69f, 55.76f}) == Labels{0, 0, 1});
 }
 
+TEST_CASE("column profiles: a first raised group over cells fallen under the vehicle is a crest",
+          "[detector][profiles]") {
+  // Sim hills_s2305 (Puck Hi-Res, frame 1, column 850): the vehicle in a hollow; rings 0-4
+  // climb a hill's flank 6.8-10.3 m out, 0.65-1.0 m up, rising on at 0.1 as the chord from
+  // under the vehicle does; ring 5 meets the far side 29.8 m out, 0.12 m up, level with the
+  // vehicle's ground. The cells carried the vehicle's surface down behind it: level 2 lies
+  // 1.7-2.6 m under the flank (1.07 m under the vehicle's ground at ring 0).
+  const std::vector<float> r = {6.8f, 7.4f, 8.1f, 9.0f, 10.3f, 29.8f};
+  const std::vector<float> flank = {0.65f, 0.72f, 0.81f, 0.90f, 1.0f, 0.12f};
+  const std::vector<float> fallen = {1.72f, 1.87f, 2.05f, 2.27f, 2.56f, 0.f};
+  const auto column = [&](const std::vector<float>& z, const std::vector<float>& level2) {
+    Scan s;
+    for (std::size_t ring = 0; ring < z.size(); ++ring) {
+      add(s, static_cast<int>(ring), 0, r[ring], z[ring], 1);
+    }
+    return label(s, level2).ground;
+  };
+  using Labels = std::vector<std::uint8_t>;
+  CHECK(column(flank, fallen) == Labels{1, 1, 1, 1, 1, 1});
+  // Level 2 only 0.4 m under the vehicle's ground at ring 0 (within drop_m): it may show
+  // the ground an object stands on, so the group is dropped as a car roof would be.
+  const std::vector<float> shallow = {1.05f, 1.2f, 1.38f, 1.6f, 1.89f, 0.f};
+  CHECK(column(flank, shallow) == Labels{0, 0, 0, 0, 0, 1});
+  // A level top over the fallen cells: an object's, not terrain rising on.
+  CHECK(column({0.65f, 0.65f, 0.65f, 0.65f, 0.65f, 0.12f}, fallen) == Labels{0, 0, 0, 0, 0, 1});
+}
+
+TEST_CASE("column profiles: a raised group past the column's own ground needs the far side to fall",
+          "[detector][profiles]") {
+  // Ring 0 on the ground 5 m out, level with the vehicle's and on level 2; rings 1-4 on a
+  // top 10-13 m out, 0.65-1.01 m up, rising on as the chord from ring 0 does; ring 5 on the
+  // ground 30 m out, 0.1 m up. Level 2 lies 1.2 m under the vehicle's ground beneath the
+  // top, but the column has ground of its own before it, level with what lies after it: an
+  // object's top on that ground.
+  const std::vector<float> r = {5.f, 10.f, 11.f, 12.f, 13.f, 30.f};
+  const std::vector<float> z = {0.f, 0.65f, 0.77f, 0.89f, 1.01f, 0.1f};
+  Scan s;
+  for (std::size_t ring = 0; ring < z.size(); ++ring) {
+    add(s, static_cast<int>(ring), 0, r[ring], z[ring], 1);
+  }
+  CHECK(label(s, {0.f, 1.85f, 1.97f, 2.09f, 2.21f, 0.f}).ground ==
+        std::vector<std::uint8_t>{1, 0, 0, 0, 0, 1});
+}
+
 TEST_CASE("column profiles: raised returns ending a column past an obstacle are an object's top",
           "[detector][profiles]") {
   // Sim fences_s101: ring 0 on the road 7.4 m out, rings 1-4 on a 1 m wall 8.1 m out;
