@@ -53,6 +53,15 @@ inline void add(Scan& s, int ring, int col, float r, float z, int truth) {
   s.truth.push_back(truth);
 }
 
+// One column (column 0) of ground returns, ring k at range r[k] and height z[k].
+inline Scan ground_column(const std::vector<float>& r, const std::vector<float>& z) {
+  Scan s;
+  for (std::size_t ring = 0; ring < z.size(); ++ring) {
+    add(s, static_cast<int>(ring), 0, r[ring], z[ring], 1);
+  }
+  return s;
+}
+
 inline Scan make_scan() {
   Scan s;
   for (int ring = 0; ring < kRings; ++ring) {  // cloud order: layer, ring, column

@@ -282,12 +282,8 @@ TEST_CASE("column profiles: a raised group that goes on rising as the chord to i
   // before and after it, as a car roof's returns do, but a roof or a box's top is level:
   // it does not go on rising as the chord from the ground before it.
   const auto crest = [](const std::vector<float>& z,
-                        std::vector<float> r = {7.07f, 7.69f, 8.53f, 9.77f, 55.76f}) {
-    Scan s;
-    for (std::size_t ring = 0; ring < z.size(); ++ring) {
-      add(s, static_cast<int>(ring), 0, r[ring], z[ring], 1);
-    }
-    return label(s, z).ground;  // level 2 at the vehicle's ground
+                        const std::vector<float>& r = {7.07f, 7.69f, 8.53f, 9.77f, 55.76f}) {
+    return label(ground_column(r, z), z).ground;  // level 2 at the vehicle's ground
   };
   using Labels = std::vector<std::uint8_t>;
   CHECK(crest({0.6f, 0.68f, 0.75f, 0.82f, -2.71f}) == Labels{1, 1, 1, 1, 1});
@@ -310,11 +306,7 @@ TEST_CASE("column profiles: a first raised group over cells fallen under the veh
   const std::vector<float> flank = {0.65f, 0.72f, 0.81f, 0.90f, 1.0f, 0.12f};
   const std::vector<float> fallen = {1.72f, 1.87f, 2.05f, 2.27f, 2.56f, 0.f};
   const auto column = [&](const std::vector<float>& z, const std::vector<float>& level2) {
-    Scan s;
-    for (std::size_t ring = 0; ring < z.size(); ++ring) {
-      add(s, static_cast<int>(ring), 0, r[ring], z[ring], 1);
-    }
-    return label(s, level2).ground;
+    return label(ground_column(r, z), level2).ground;
   };
   using Labels = std::vector<std::uint8_t>;
   CHECK(column(flank, fallen) == Labels{1, 1, 1, 1, 1, 1});
@@ -335,11 +327,7 @@ TEST_CASE("column profiles: a raised group past the column's own ground needs th
   // object's top on that ground.
   const std::vector<float> r = {5.f, 10.f, 11.f, 12.f, 13.f, 30.f};
   const std::vector<float> z = {0.f, 0.65f, 0.77f, 0.89f, 1.01f, 0.1f};
-  Scan s;
-  for (std::size_t ring = 0; ring < z.size(); ++ring) {
-    add(s, static_cast<int>(ring), 0, r[ring], z[ring], 1);
-  }
-  CHECK(label(s, {0.f, 1.85f, 1.97f, 2.09f, 2.21f, 0.f}).ground ==
+  CHECK(label(ground_column(r, z), {0.f, 1.85f, 1.97f, 2.09f, 2.21f, 0.f}).ground ==
         std::vector<std::uint8_t>{1, 0, 0, 0, 0, 1});
 }
 
