@@ -296,6 +296,7 @@ class ColumnProfiles {
   [[nodiscard]] bool any_steep(std::size_t first, std::size_t last) const;
   void drop_orphaned_feet(std::size_t begin, std::size_t end);
   void check_single_rises(const Cloud& cloud, std::size_t begin, std::size_t end);
+  [[nodiscard]] bool floor_under_face(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool on_ring_run_of(const Cloud& cloud, std::size_t i, float min_m) const;
   void find_ring_runs(const Cloud& cloud, std::size_t strongest_end);
   void remove_silhouettes(const Cloud& cloud);

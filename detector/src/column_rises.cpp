@@ -287,7 +287,11 @@ void ColumnProfiles::check_single_rises(const Cloud& cloud, Index begin, Index e
         return (q.z >= p_.sensor_z || k == begin) && !level2_.measured(q.index) &&
                on_ring_run_of(cloud, q.index, p_.rise_run_min_m);
       };
-      if (!before && !after && !level && !on_chord && !terrain_run()) {
+      // Its column's only ground return, under the vehicle's ground, may be the floor a face
+      // farther out stands on (floor_under_face).
+      const bool alone = previous == end && next == end;
+      if (!before && !after && !level && !on_chord && !terrain_run() &&
+          !(alone && floor_under_face(k, end))) {
         points_[k].ground = 0;
         // Under the ground the vehicle stands on, the ring may still take it (fill_shadows):
         // terrain falling away (a levee's side grazed by a ring) runs on along the ring from
@@ -297,6 +301,18 @@ void ColumnProfiles::check_single_rises(const Cloud& cloud, Index begin, Index e
     }
     previous = k;
   }
+}
+
+// Whether ground return k, its column's only one, lies under the ground under the vehicle
+// where the column's next return is on a face farther out, rising from at most drop_m over
+// k: the floor that face stands on, seen by the lowest ring between walls. The case: the
+// vehicle on the street, a ramp falling ahead into a garage; ring 0 on the garage's floor
+// 22.6 m out, 2.1 m under the street and 0.5 m over the level-1 plane that level 2 kept
+// there; rings 1-12 on the back wall 28.3 m out, from 2.46 m down (garage_s2205 at Hi-Res).
+bool ColumnProfiles::floor_under_face(Index k, Index end) const {
+  if (k + 1 >= end || !(points_[k].z < start_z_)) return false;
+  const ColumnPoint &q = points_[k], &face = points_[k + 1];
+  return face.steep != 0 && face.r > q.r && face.z <= q.z + p_.drop_m;
 }
 
 // A steep return the walk took as a wall's foot on the profile through a ground return that

@@ -153,8 +153,10 @@ TEST_CASE("column profiles: a column's first return on a long ring run is the te
         add_all(ring, 4.5f, 0.4f + 0.3f * static_cast<float>(ring), 2, 0.4f);
     }
     add_all(street, 26.94f, -2.87f, 1, 3.09f);
-    for (int ring = street + 1; ring < street + 6; ++ring)  // the facade
-      add_all(ring, 37.f, -2.86f + 0.86f * static_cast<float>(ring - street - 1), 2, 3.f);
+    // The facade, its lowest return here 0.6 m over the street (at -2.86 m in the capture):
+    // a face rising from the street would vouch for it alone (floor_under_face).
+    for (int ring = street + 1; ring < street + 6; ++ring)
+      add_all(ring, 37.f, -2.26f + 0.86f * static_cast<float>(ring - street - 1), 2, 3.f);
     const Labels out = label_by_cell(s, level2, {}, measured_by_point);
     return out.ground[static_cast<std::size_t>(street * columns + columns / 2)] == 1;
   };
@@ -197,6 +199,31 @@ TEST_CASE("column profiles: a column's first return level with the vehicle's gro
   CHECK(first(false, -0.03f) == 1);  // the road beside the vehicle
   CHECK(first(false, -0.9f) == 0);   // under it: a bush in the fields, as far as rule 4 knows
   CHECK(first(true, 0.1f) == 0);     // past a car: something else at that height (a roof)
+}
+
+TEST_CASE(
+    "column profiles: a column's only ground under the vehicle that a face stands on is the floor",
+    "[detector][profiles]") {
+  // Sim garage_s2205 Hi-Res (frame 0, column 190): the vehicle on the street, a ramp falling
+  // ahead; ring 0 on the garage's floor 22.6 m out, 2.12 m under the street and 0.5 m over
+  // the level-1 plane that level 2 kept there; rings 1-6 on the back wall 28.3 m out (from
+  // wall_z up). Returns whether ring 0 is ground.
+  const auto floor_ground = [](float floor_z, bool wall, float wall_z) {
+    Scan s;
+    add(s, 0, 0, 22.6f, floor_z, 1);
+    if (wall) {
+      for (int ring = 1; ring <= 6; ++ring)
+        add(s, ring, 0, 28.3f, wall_z + 0.66f * static_cast<float>(ring - 1), 2);
+    }
+    std::vector<float> level2(s.cloud.size(), 3.f);
+    level2[0] = 0.5f;
+    return label(s, level2).ground[0] == 1;
+  };
+  CHECK(floor_ground(-2.12f, true, -2.46f));  // the wall rises from the floor
+  CHECK(floor_ground(-2.12f, true, -1.7f));   // its lowest return 0.42 m up the wall
+  CHECK(!floor_ground(-2.12f, true, -1.5f));  // a face starting 0.62 m over it: a top
+  CHECK(!floor_ground(-2.12f, false, 0.f));   // no face: a top in a hollow, as before
+  CHECK(!floor_ground(0.4f, true, 0.06f));    // over the vehicle's ground: a top
 }
 
 TEST_CASE("column profiles: the vehicle's ground past a bush taken, then dropped, stays ground",
