@@ -288,10 +288,12 @@ void ColumnProfiles::check_single_rises(const Cloud& cloud, Index begin, Index e
                on_ring_run_of(cloud, q.index, p_.rise_run_min_m);
       };
       // Its column's only ground return, under the vehicle's ground, may be the floor a face
-      // farther out stands on (floor_under_face).
+      // farther out stands on (floor_under_face); its first, the terrain climbing from the
+      // vehicle over cells that fell away (climbs_over_fallen_cells).
       const bool alone = previous == end && next == end;
       if (!before && !after && !level && !on_chord && !terrain_run() &&
-          !(alone && floor_under_face(k, end))) {
+          !(alone && floor_under_face(k, end)) &&
+          !(previous == end && climbs_over_fallen_cells(k, next, end))) {
         points_[k].ground = 0;
         // Under the ground the vehicle stands on, the ring may still take it (fill_shadows):
         // terrain falling away (a levee's side grazed by a ring) runs on along the ring from
@@ -313,6 +315,21 @@ bool ColumnProfiles::floor_under_face(Index k, Index end) const {
   if (k + 1 >= end || !(points_[k].z < start_z_)) return false;
   const ColumnPoint &q = points_[k], &face = points_[k + 1];
   return face.steep != 0 && face.r > q.r && face.z <= q.z + p_.drop_m;
+}
+
+// Whether ground return k, its column's first, taken before any obstacle return was refused
+// (not resumed), more than half single_rise_m over the ground under the vehicle, is the
+// terrain climbing from the vehicle where the level-2 cells fell away: the surface under it
+// lies more than drop_m under the vehicle's ground and the column's next ground return
+// (`next`) lies higher. As for a group (crest_top), the cells then show no level ground an
+// object could stand on. The case: hills_s101 at Hi-Res (frame 1, column 1296), ring 0 on
+// a gentle climb 10.1 m out, 0.2 m up, ring 1 on it 11.3 m out; the cell under ring 0 (near
+// the vehicle, its own fit failed) took a neighbour's surface falling away, 0.68 m under
+// the vehicle's ground there.
+bool ColumnProfiles::climbs_over_fallen_cells(Index k, Index next, Index end) const {
+  const ColumnPoint& q = points_[k];
+  if (q.resumed != 0 || next >= end || !(q.z > start_z_ + 0.5f * p_.single_rise_m)) return false;
+  return q.z - q.level2_h < start_z_ - p_.drop_m && points_[next].z > q.z;
 }
 
 // A steep return the walk took as a wall's foot on the profile through a ground return that

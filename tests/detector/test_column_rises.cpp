@@ -345,6 +345,22 @@ TEST_CASE("column profiles: a first raised group over cells fallen under the veh
   CHECK(column({0.65f, 0.65f, 0.65f, 0.65f, 0.65f, 0.12f}, fallen) == Labels{0, 0, 0, 0, 0, 1});
 }
 
+TEST_CASE("column profiles: a column's first return climbing on over fallen cells stays ground",
+          "[detector][profiles]") {
+  // Sim hills_s101 (Puck Hi-Res, frame 1, column 1296): a gentle climb from the vehicle;
+  // ring 0 meets it 10.1 m out, 0.2 m up, ring 1 11.3 m out, 0.25 m up, and so on. The cell
+  // under ring 0 took a neighbour's surface falling away, 0.68 m under the vehicle's ground
+  // there (level 2 0.88 m under ring 0); the rings over it lie on their cells.
+  const std::vector<float> r = {10.1f, 11.3f, 12.8f, 14.6f};
+  const auto ring0 = [&](float z1, float level2_under_ring0) {
+    const std::vector<float> z = {0.2f, z1, 0.32f, 0.43f};
+    return label(ground_column(r, z), {level2_under_ring0, 0.f, 0.f, 0.f}).ground[0];
+  };
+  CHECK(ring0(0.25f, 0.88f) == 1);
+  CHECK(ring0(0.15f, 0.88f) == 0);  // the next ground return lower: no climb going on
+  CHECK(ring0(0.25f, 0.6f) == 0);   // level 2 only 0.4 m under the vehicle's ground there
+}
+
 TEST_CASE("column profiles: a raised group past the column's own ground needs the far side to fall",
           "[detector][profiles]") {
   // Ring 0 on the ground 5 m out, level with the vehicle's and on level 2; rings 1-4 on a
