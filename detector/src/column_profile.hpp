@@ -297,8 +297,8 @@ class ColumnProfiles {
   void drop_orphaned_feet(std::size_t begin, std::size_t end);
   void check_single_rises(const Cloud& cloud, std::size_t begin, std::size_t end);
   [[nodiscard]] bool floor_under_face(std::size_t k, std::size_t end) const;
-  [[nodiscard]] bool climbs_over_fallen_cells(std::size_t k, std::size_t next,
-                                              std::size_t end) const;
+  [[nodiscard]] bool climbs_over_fallen_cells(std::size_t k, std::size_t next) const;
+  [[nodiscard]] bool over_fallen_cells(const ColumnPoint& q) const;
   [[nodiscard]] bool on_ring_run_of(const Cloud& cloud, std::size_t i, float min_m) const;
   void find_ring_runs(const Cloud& cloud, std::size_t strongest_end);
   void remove_silhouettes(const Cloud& cloud);

@@ -145,7 +145,7 @@ bool ColumnProfiles::crest_top(Index first, Index last, Index after, float befor
   const ColumnPoint &a = points_[first], &b = points_[last];
   if (b.r - a.r < p_.crest_min_m || a.r <= before_r) return false;
   const bool far_side_falls = points_[after].z < before_z - p_.drop_m;
-  const bool level2_falls_away = from_start && a.z - a.level2_h < start_z_ - p_.drop_m;
+  const bool level2_falls_away = from_start && over_fallen_cells(a);
   if (!far_side_falls && !level2_falls_away) return false;
   const float chord = (a.z - before_z) / (a.r - before_r);
   const float along = (b.z - a.z) / (b.r - a.r);
@@ -290,10 +290,10 @@ void ColumnProfiles::check_single_rises(const Cloud& cloud, Index begin, Index e
       // Its column's only ground return, under the vehicle's ground, may be the floor a face
       // farther out stands on (floor_under_face); its first, the terrain climbing from the
       // vehicle over cells that fell away (climbs_over_fallen_cells).
-      const bool alone = previous == end && next == end;
+      const bool first = previous == end;
       if (!before && !after && !level && !on_chord && !terrain_run() &&
-          !(alone && floor_under_face(k, end)) &&
-          !(previous == end && climbs_over_fallen_cells(k, next, end))) {
+          !(first && next == end && floor_under_face(k, end)) &&
+          !(first && next < end && climbs_over_fallen_cells(k, next))) {
         points_[k].ground = 0;
         // Under the ground the vehicle stands on, the ring may still take it (fill_shadows):
         // terrain falling away (a levee's side grazed by a ring) runs on along the ring from
@@ -319,17 +319,22 @@ bool ColumnProfiles::floor_under_face(Index k, Index end) const {
 
 // Whether ground return k, its column's first, taken before any obstacle return was refused
 // (not resumed), more than half single_rise_m over the ground under the vehicle, is the
-// terrain climbing from the vehicle where the level-2 cells fell away: the surface under it
-// lies more than drop_m under the vehicle's ground and the column's next ground return
-// (`next`) lies higher. As for a group (crest_top), the cells then show no level ground an
-// object could stand on. The case: hills_s101 at Hi-Res (frame 1, column 1296), ring 0 on
-// a gentle climb 10.1 m out, 0.2 m up, ring 1 on it 11.3 m out; the cell under ring 0 (near
-// the vehicle, its own fit failed) took a neighbour's surface falling away, 0.68 m under
-// the vehicle's ground there.
-bool ColumnProfiles::climbs_over_fallen_cells(Index k, Index next, Index end) const {
+// terrain climbing from the vehicle where the level-2 cells fell away (over_fallen_cells)
+// and the column's next ground return (`next`, which must exist) lies higher. As for a group
+// (crest_top), the cells then show no level ground an object could stand on. The case:
+// hills_s101 at Hi-Res (frame 1, column 1296), ring 0 on a gentle climb 10.1 m out, 0.2 m
+// up, ring 1 on it 11.3 m out; the cell under ring 0 (near the vehicle, its own fit failed)
+// took a neighbour's surface falling away, 0.68 m under the vehicle's ground there.
+bool ColumnProfiles::climbs_over_fallen_cells(Index k, Index next) const {
   const ColumnPoint& q = points_[k];
-  if (q.resumed != 0 || next >= end || !(q.z > start_z_ + 0.5f * p_.single_rise_m)) return false;
-  return q.z - q.level2_h < start_z_ - p_.drop_m && points_[next].z > q.z;
+  if (q.resumed != 0 || !(q.z > start_z_ + 0.5f * p_.single_rise_m)) return false;
+  return over_fallen_cells(q) && points_[next].z > q.z;
+}
+
+// Whether the level-2 surface under q lies more than drop_m under the ground under the
+// vehicle (crest_top, climbs_over_fallen_cells).
+bool ColumnProfiles::over_fallen_cells(const ColumnPoint& q) const {
+  return q.z - q.level2_h < start_z_ - p_.drop_m;
 }
 
 // A steep return the walk took as a wall's foot on the profile through a ground return that
