@@ -65,6 +65,9 @@ CsvFrames read_csv(const std::string& path) {
   CsvFrames out;
   std::vector<std::string> cells;
   while (std::getline(in, line)) {
+    // A live run may still be writing the frame after the last one published: its last line,
+    // without a newline yet, is incomplete (and no cloud received holds its rows).
+    if (in.eof()) break;
     cells.clear();
     std::stringstream row(line);
     std::string cell;
