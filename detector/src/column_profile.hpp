@@ -106,6 +106,11 @@ struct ProfileParams {
                                  // max_gradient x advance + this up or down
   float steep_band_m = 0.06f;  // a steep return is ground only this close to the profile
   float steep_climb_m = 0.7f;  // ... where it climbs at most this past its last ground return
+  // ... and at most this where the profile climbs gently (under gentle_climb_gradient): a
+  // climb that gentle is no bank face measured ring after ring but may be a fence's foot,
+  // and extrapolated far it reaches a facade's foot 0.4 m up (fences_s3805, 5 Hz).
+  float gentle_steep_climb_m = 0.2f;
+  float gentle_climb_gradient = 0.06f;
   float label_up_m = 0.18f, label_down_m = 0.5f;  // band for returns that do not advance
   // A ground return more than this over the level-2 surface stays ground only when the
   // ground return before or after it in its column is raised too (a bank rises over
@@ -273,6 +278,7 @@ class ColumnProfiles {
   [[nodiscard]] bool past_hidden_top(float r, float last_r, float last_z) const;
   [[nodiscard]] bool climb_levelled_off(float gradient, float step) const;
   [[nodiscard]] bool climb_is_guess(float gradient, float advance) const;
+  [[nodiscard]] bool foot_climb_is_guess(float gradient, float advance) const;
   // An obstacle return lying `depth` under the profile's extrapolation (r < 0: none): the
   // ground at its distance lies at or under it.
   struct GroundBound {

@@ -373,8 +373,9 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // met a wall over the ground it hides, the plane passing there by chance, garage_s105;
       // within first_foot_over_m over the start it may be, a building's foot on a pavement)
       // Nor where the climb is only a guess (a shed's wall on a bank top the rings never
-      // see, where the bank's slope extrapolated runs into it).
-      const bool climb_guessed = climb_is_guess(gradient, advance);
+      // see, where the bank's slope extrapolated runs into it; a facade far past a gentle
+      // rise onto a fence's foot).
+      const bool climb_guessed = foot_climb_is_guess(gradient, advance);
       const bool first_over_start = profile_size_ == 1 && k == begin && over > 0.f;
       const bool start_guessed = profile_size_ == 1 && !first_over_start;
       const float foot_m = first_over_start ? p_.first_foot_over_m : p_.plane_foot_m;
@@ -555,6 +556,17 @@ inline bool ColumnProfiles::climb_levelled_off(float gradient, float step) const
 // profile the extrapolation is only a guess.
 inline bool ColumnProfiles::climb_is_guess(float gradient, float advance) const {
   return gradient * advance > p_.steep_climb_m;
+}
+
+// Whether a steep return (a wall's foot), `advance` past the last ground return, stands on a
+// climb that is only a guess: one over steep_climb_m, or, where the profile climbs gently,
+// one over gentle_steep_climb_m. A bank's face is measured ring after ring at its gradient;
+// a gentle gradient may come from one raised return (the foot of a fence, 0.16 m up 21 m
+// out) and, carried 9 m on to a facade, it lifts the profile onto the facade's foot.
+inline bool ColumnProfiles::foot_climb_is_guess(float gradient, float advance) const {
+  const float climb = gradient * advance;
+  return climb > p_.steep_climb_m ||
+         (gradient < p_.gentle_climb_gradient && climb > p_.gentle_steep_climb_m);
 }
 
 // Of the column's returns [from, k) that are no ground and lie past the profile's end (at

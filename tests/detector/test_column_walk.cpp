@@ -62,6 +62,29 @@ TEST_CASE("column profiles: the steep band trusts only a short climb past the la
   CHECK(label(near).ground == std::vector<std::uint8_t>{1, 1, 1, 1, 1, 1, 1, 0});
 }
 
+TEST_CASE("column profiles: past a gentle climb the steep band trusts only 0.2 m of it",
+          "[detector][profiles]") {
+  // Sim fences_s3805 (5 Hz, frame 4, column 1229): flat ground to ring 4 (16.4 m); ring 5
+  // meets a fence's foot 21.1 m out, 0.16 m up (a gentle rise, 0.034); ring 6 passes over
+  // the fence and meets a facade 30 m out at 0.46 m, ring 7 the facade over it. The gentle
+  // gradient carried 8.9 m lifts the profile 0.3 m, onto the facade's foot.
+  auto rise_then_wall = [](float wall_r) {
+    Scan s;
+    const float r[] = {7.4f, 8.6f, 10.25f, 12.6f, 16.4f};
+    for (int ring = 0; ring < 5; ++ring) add(s, ring, 0, r[ring], 0.f, 1);
+    add(s, 5, 0, 21.1f, 0.16f, 2);
+    const float foot = 0.16f + 0.034f * (wall_r - 21.1f);
+    add(s, 6, 0, wall_r, foot, 2);
+    add(s, 7, 0, wall_r, foot + 1.05f, 2);
+    return s;
+  };
+  const Scan far = rise_then_wall(30.f);
+  CHECK(label(far).ground == std::vector<std::uint8_t>{1, 1, 1, 1, 1, 1, 0, 0});
+  // A wall 3 m past the rise (a 0.1 m climb): its foot is still ground.
+  const Scan near = rise_then_wall(24.f);
+  CHECK(label(near).ground == std::vector<std::uint8_t>{1, 1, 1, 1, 1, 1, 1, 0});
+}
+
 TEST_CASE("column profiles: rings crowding on a bank face close by still move the profile",
           "[detector][profiles]") {
   // A bank face rising at 0.55 from 6.3 m: ring 1 is only 0.28 m past ring 0 (too close to
