@@ -41,19 +41,27 @@ TEST_CASE("column profiles follow a bank, a levee's fields and stop at walls and
   CHECK(fields > 200);
 }
 
+// The column `s` (one return per ring, column 0), then a wall `wall_r` out: its foot on the
+// column's climb extrapolated at `gradient` from its last return, the next ring `face_m`
+// over the foot at the same distance (a steep pair), both obstacles.
+static Scan climb_then_wall(Scan s, float gradient, float wall_r, float face_m) {
+  const int ring = static_cast<int>(s.truth.size());
+  const float foot = s.cloud.z.back() + gradient * (wall_r - s.cloud.range_xy.back());
+  add(s, ring, 0, wall_r, foot, 2);
+  add(s, ring + 1, 0, wall_r, foot + face_m, 2);
+  return s;
+}
+
 TEST_CASE("column profiles: the steep band trusts only a short climb past the last ground",
           "[detector][profiles]") {
   // Sim bank (seed 5): a bank climbing at 0.21 seen to 18 m; 9 m farther a shed's wall on
   // the bank top (two rings at one distance, a steep pair), its lower return on the bank's
   // slope extrapolated by chance. The extrapolated climb (1.9 m) is only a guess there.
   auto bank_then_wall = [](float wall_r) {
-    Scan s;
-    const float r[] = {6.f, 8.f, 10.f, 12.5f, 15.f, 18.f};
-    for (int ring = 0; ring < 6; ++ring) add(s, ring, 0, r[ring], 0.21f * (r[ring] - 6.f), 1);
-    const float foot = 0.21f * (wall_r - 6.f);
-    add(s, 6, 0, wall_r, foot, 2);
-    add(s, 7, 0, wall_r, foot + 1.2f, 2);
-    return s;
+    const std::vector<float> r{6.f, 8.f, 10.f, 12.5f, 15.f, 18.f};
+    std::vector<float> z;
+    for (const float x : r) z.push_back(0.21f * (x - 6.f));
+    return climb_then_wall(ground_column(r, z), 0.21f, wall_r, 1.2f);
   };
   const Scan far = bank_then_wall(27.f);
   CHECK(label(far).ground == std::vector<std::uint8_t>{1, 1, 1, 1, 1, 1, 0, 0});
@@ -69,14 +77,9 @@ TEST_CASE("column profiles: past a gentle climb the steep band trusts only 0.2 m
   // the fence and meets a facade 30 m out at 0.46 m, ring 7 the facade over it. The gentle
   // gradient carried 8.9 m lifts the profile 0.3 m, onto the facade's foot.
   auto rise_then_wall = [](float wall_r) {
-    Scan s;
-    const float r[] = {7.4f, 8.6f, 10.25f, 12.6f, 16.4f};
-    for (int ring = 0; ring < 5; ++ring) add(s, ring, 0, r[ring], 0.f, 1);
+    Scan s = ground_column({7.4f, 8.6f, 10.25f, 12.6f, 16.4f}, {0.f, 0.f, 0.f, 0.f, 0.f});
     add(s, 5, 0, 21.1f, 0.16f, 2);
-    const float foot = 0.16f + 0.034f * (wall_r - 21.1f);
-    add(s, 6, 0, wall_r, foot, 2);
-    add(s, 7, 0, wall_r, foot + 1.05f, 2);
-    return s;
+    return climb_then_wall(std::move(s), 0.034f, wall_r, 1.05f);
   };
   const Scan far = rise_then_wall(30.f);
   CHECK(label(far).ground == std::vector<std::uint8_t>{1, 1, 1, 1, 1, 1, 0, 0});
