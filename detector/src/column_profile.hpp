@@ -108,7 +108,7 @@ struct ProfileParams {
   float steep_climb_m = 0.7f;  // ... where it climbs at most this past its last ground return
   // ... and at most this where the profile climbs gently (under gentle_climb_gradient): a
   // climb that gentle is no bank face measured ring after ring but may be a fence's foot,
-  // and extrapolated far it reaches a facade's foot 0.4 m up (fences_s3805, 5 Hz).
+  // and carried 9 m it lifts the profile 0.3 m, onto a facade's foot (fences_s3805, 5 Hz).
   float gentle_steep_climb_m = 0.2f;
   float gentle_climb_gradient = 0.06f;
   float label_up_m = 0.18f, label_down_m = 0.5f;  // band for returns that do not advance

@@ -564,9 +564,8 @@ inline bool ColumnProfiles::climb_is_guess(float gradient, float advance) const 
 // a gentle gradient may come from one raised return (the foot of a fence, 0.16 m up 21 m
 // out) and, carried 9 m on to a facade, it lifts the profile onto the facade's foot.
 inline bool ColumnProfiles::foot_climb_is_guess(float gradient, float advance) const {
-  const float climb = gradient * advance;
-  return climb > p_.steep_climb_m ||
-         (gradient < p_.gentle_climb_gradient && climb > p_.gentle_steep_climb_m);
+  return climb_is_guess(gradient, advance) ||
+         (gradient < p_.gentle_climb_gradient && gradient * advance > p_.gentle_steep_climb_m);
 }
 
 // Of the column's returns [from, k) that are no ground and lie past the profile's end (at
