@@ -345,6 +345,7 @@ class ColumnProfiles {
   [[nodiscard]] bool face_over_line(const Cloud& cloud, const RingRun& first,
                                     const RingRun& last) const;
   void mark_hidden_silhouettes(const Cloud& cloud);
+  [[nodiscard]] bool at_one_range(const Cloud& cloud, const RingRun& run) const;
   [[nodiscard]] bool level_with_start(const RingRun& run) const;
   [[nodiscard]] bool hidden_by_object(const Cloud& cloud, std::size_t first, std::size_t last,
                                       std::size_t end, const RingBeyond& beyond, bool after) const;

@@ -232,40 +232,58 @@ bool ColumnProfiles::face_over_line(const Cloud& cloud, const RingRun& first,
   return face;
 }
 
-// A short run under the sensor that opens onto the sky or farther returns at one end and,
-// at the other, meets a nearer run standing out (an object in front of it, the ring past
-// that object not going on from the run: hidden_by_object) stands out too: the object
-// hides where the run goes on, and its open end is what a silhouette shows. Objects past a
-// grade change met by one ring beside one another (slope_s1201 at 20 Hz: boxes 31 m out,
-// 0.56 m over the slope falling away, one end at the sky, the other behind a box 16 m out)
-// and fence lines hidden at one end by a nearer fence's post or a bush. A run with a return
-// level with the ground under the vehicle stays: the road between two parked cars, joined
-// by the ring to the lower one's side (jam). Marked again while runs are added: each one
-// found may hide the next. Only with the mounting height known: the ground under the vehicle
-// is then z = 0, not the level-2 surface's guess (the real captures, run without it, lose
-// a ring's runs between bushes on rising terrain: vlp16_outdoor_600rpm).
+// A short run that opens onto the sky or farther returns at one end and, at the other,
+// meets a nearer run standing out (an object in front of it, the ring past that object not
+// going on from the run: hidden_by_object) stands out too: the object hides where the run
+// goes on, and its open end is what a silhouette shows. Objects past a grade change met by
+// one ring beside one another (slope_s1201 at 20 Hz: boxes 31 m out, 0.56 m over the slope
+// falling away, one end at the sky, the other behind a box 16 m out) and fence lines hidden
+// at one end by a nearer fence's post or a bush. Over the sensor only a run at one range
+// (at_one_range): an object's face across the ring (hills_s603 at 20 Hz: ring 9 on an
+// object 37 m out, 1 m over a hill climbing past the sensor's height, beside a nearer one),
+// where a ring tracing terrain sideways recedes along it (bank_s1805 tilted: ring 10 on a
+// bank's top, 17 -> 23 m out between two bushes). A run with a return level with the ground
+// under the vehicle stays: the road between two parked cars, joined by the ring to the
+// lower one's side (jam). Marked again while runs are added: each one found may hide the
+// next. Only with the mounting height known: the ground under the vehicle is then z = 0,
+// not the level-2 surface's guess (the real captures, run without it, lose a ring's runs
+// between bushes on rising terrain: vlp16_outdoor_600rpm).
 void ColumnProfiles::mark_hidden_silhouettes(const Cloud& cloud) {
   if (p_.sensor_z <= 0.f) return;
   constexpr int kMaxPasses = 4;
   for (int pass = 0; pass < kMaxPasses; ++pass) {
     bool added = false;
     for (const RingRun& run : runs_) {
-      if (run.wrap != kNoRun || stands_out_[run.a] != 0 || cloud.z[run.a] >= p_.sensor_z ||
-          cloud.z[run.b] >= p_.sensor_z || apart(cloud, run.a, run.b, p_.silhouette_max_m)) {
+      const bool over_sensor = cloud.z[run.a] >= p_.sensor_z || cloud.z[run.b] >= p_.sensor_z;
+      if (run.wrap != kNoRun || stands_out_[run.a] != 0 ||
+          apart(cloud, run.a, run.b, p_.silhouette_max_m) ||
+          (over_sensor && !at_one_range(cloud, run))) {
         continue;
       }
       const RingBeyond before = beyond_end(cloud, run.first, run.last, run.a, false);
       const RingBeyond after = beyond_end(cloud, run.first, run.last, run.b, true);
+      // The open end first: hidden_by_object walks the ring past the object in front.
       const bool hidden = (end_open(cloud, run.a, before) &&
                            hidden_by_object(cloud, run.first, run.last, run.b, after, true)) ||
-                          (hidden_by_object(cloud, run.first, run.last, run.a, before, false) &&
-                           end_open(cloud, run.b, after));
+                          (end_open(cloud, run.b, after) &&
+                           hidden_by_object(cloud, run.first, run.last, run.a, before, false));
       if (!hidden || level_with_start(run)) continue;  // walked only for a hidden run
       mark_standing_out(run);
       added = true;
     }
     if (!added) break;
   }
+}
+
+// Whether run `run`'s returns lie within one run gap in range of its nearest.
+bool ColumnProfiles::at_one_range(const Cloud& cloud, const RingRun& run) const {
+  const float* const range = cloud.range_xy.data();
+  float nearest = range[run.a], farthest = range[run.a];
+  for (Index i = run.a + 1; i <= run.b; ++i) {
+    nearest = std::min(nearest, range[i]);
+    farthest = std::max(farthest, range[i]);
+  }
+  return farthest - nearest <= run_gap(nearest);
 }
 
 // Whether any return of run `run` lies level with the ground under the vehicle (within

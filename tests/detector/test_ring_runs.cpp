@@ -569,6 +569,34 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
   CHECK(far_box_ground({.far_z = 0.05f}) == 8);
 }
 
+TEST_CASE("column profiles: over the sensor, a hidden run stands out only at one range",
+          "[detector][profiles]") {
+  // Sim hills_s603 at 20 Hz (frame 1): the terrain climbs at 0.1 past the sensor's height.
+  // Ring 6 meets an object 37 m out, the sky before it, and after it a nearer one 16 m out
+  // (standing out), past which the ring lands on the hill 60 m out. Rings 0-5 see the climb
+  // to 20 m; the level-2 surface lies on every return.
+  const auto far_run_ground = [](float recede_per_column_m) {
+    const auto hill = [](float r) { return 0.1f * (r - 4.f); };
+    Scan s;
+    int ring = 0;
+    for (const float r : {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}) {
+      for (int col = 0; col <= 60; ++col) add(s, ring, col, r, hill(r), 1);
+      ++ring;
+    }
+    for (int col = 15; col <= 22; ++col) {
+      const float r = 37.f + recede_per_column_m * static_cast<float>(col - 15);
+      add(s, 6, col, r, hill(r), 2);
+    }
+    for (int col = 24; col <= 38; ++col) add(s, 6, col, 16.f, 2.5f, 2);
+    for (int col = 39; col <= 60; ++col) add(s, 6, col, 60.f, hill(60.f), 1);
+    return ground_on_ring(s, label(s, s.cloud.z).ground, 6, 23);
+  };
+  CHECK(far_run_ground(0.f) == 0);
+  // Receding along the ring (2.1 m over the run, more than the run gap): the ring tracing
+  // the hill sideways between two objects (bank_s1805 tilted), which stays ground.
+  CHECK(far_run_ground(0.3f) == 8);
+}
+
 TEST_CASE("column profiles: a ring passing an object hiding a run follows it across the edge",
           "[detector][profiles]") {
   // Sim slope_s2703: frames are cut straight ahead, where cars stand one behind the other on
