@@ -57,6 +57,10 @@ struct ProfileParams {
   // ramp, where level 2 follows the ramp). One such return is enough where the column ends
   // there and only faces stood in front (rises_over_its_ray).
   int rising_ray_returns = 2;
+  // A column's first return between the vehicle's ground and the sensor, over the start's
+  // allowance, is the terrain climbing on (climbs_on_level2) only where this many returns
+  // go on from it on the measured level-2 surface (a hillside beside the vehicle).
+  int first_climb_returns = 2;
   // A return at most this far behind a steep face and not under its last return lies on
   // the wall's top: it counts as that face (on_wall_top).
   float wall_top_m = 0.5f;

@@ -777,6 +777,23 @@ TEST_CASE("column profiles: a valley's far side rising on behind a convex should
   CHECK(label(f, level2, {}, true).ground[8] == 0);
 }
 
+TEST_CASE("column profiles: a hillside rising from beside the vehicle is ground",
+          "[detector][profiles]") {
+  // Sim hills_s4103 at Hi-Res (frame 1, column 1100): the lowest ring (-10 degrees) meets a
+  // hillside 5.6 m out and 0.98 m up, just over the start's allowance (0.25 m + 0.12 per m),
+  // and each higher ring meets it farther and higher, climbing at 0.4-0.5; level 2, fitted
+  // to ground of its own there, lies through every return.
+  const std::vector<ColumnReturn> hillside = {
+      {0, 5.62f, 0.982f, 0.f}, {1, 5.84f, 1.082f, 0.f}, {2, 6.09f, 1.187f, 0.f},
+      {3, 6.39f, 1.297f, 0.f}, {4, 6.64f, 1.425f, 0.f}, {5, 6.93f, 1.563f, 0.f},
+      {6, 7.26f, 1.711f, 0.f}, {7, 7.61f, 1.874f, 0.f}};
+  for (const int g : label_column(hillside)) CHECK(g == 1);
+  // With only one return going on from it (ring 2; ring 1 lies within 0.3 m of ring 0, and
+  // the column ends there), the first return is no climb the column shows.
+  const std::vector<ColumnReturn> short_column(hillside.begin(), hillside.begin() + 3);
+  for (const int g : label_column(short_column)) CHECK(g == 0);
+}
+
 TEST_CASE("column profiles: a valley's far side rising back under the vehicle's ground is ground",
           "[detector][profiles]") {
   // Sim hills_s1903 (frame 1, column 20): the column falls into a valley 2.3 m under the
