@@ -13,13 +13,20 @@ using namespace vlpground::detail;
 using namespace column_scan;
 
 namespace {
-// Rings 0, 1, ... on level ground (z = 0) at the given ranges, in columns [0, columns).
-void add_level_rings(Scan& s, std::initializer_list<float> ranges, int columns) {
+// Rings 0, 1, ... on ground at the given ranges, in columns [0, columns), the ground at
+// range r height(r) high.
+void add_ground_rings(Scan& s, std::initializer_list<float> ranges, int columns,
+                      float (*height)(float)) {
   int ring = 0;
   for (const float r : ranges) {
-    for (int col = 0; col < columns; ++col) add(s, ring, col, r, 0.f, 1);
+    for (int col = 0; col < columns; ++col) add(s, ring, col, r, height(r), 1);
     ++ring;
   }
+}
+
+// The same on level ground (z = 0).
+void add_level_rings(Scan& s, std::initializer_list<float> ranges, int columns) {
+  add_ground_rings(s, ranges, columns, [](float) { return 0.f; });
 }
 }  // namespace
 
@@ -578,11 +585,7 @@ TEST_CASE("column profiles: over the sensor, a hidden run stands out only at one
   const auto far_run_ground = [](float recede_per_column_m) {
     const auto hill = [](float r) { return 0.1f * (r - 4.f); };
     Scan s;
-    int ring = 0;
-    for (const float r : {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}) {
-      for (int col = 0; col <= 60; ++col) add(s, ring, col, r, hill(r), 1);
-      ++ring;
-    }
+    add_ground_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}, 61, hill);
     for (int col = 15; col <= 22; ++col) {
       const float r = 37.f + recede_per_column_m * static_cast<float>(col - 15);
       add(s, 6, col, r, hill(r), 2);
