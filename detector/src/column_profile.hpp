@@ -335,7 +335,9 @@ class ColumnProfiles {
                                       std::size_t end, bool after) const;
   [[nodiscard]] std::size_t across_edge(const Cloud& cloud, std::size_t first, std::size_t last,
                                         std::size_t end, bool after, int& around) const;
-  [[nodiscard]] bool end_open(const Cloud& cloud, std::size_t end, const RingBeyond& beyond) const;
+  [[nodiscard]] bool end_open(const Cloud& cloud, std::size_t end, const RingBeyond& beyond,
+                              bool face = false) const;
+  [[nodiscard]] bool under_lower_ground(const Cloud& cloud, std::size_t end) const;
   struct RingRun;
   [[nodiscard]] bool outer_end_sky(const Cloud& cloud, const RingRun& run, bool after) const;
   void drop_wall_lines(const Cloud& cloud);
@@ -350,6 +352,7 @@ class ColumnProfiles {
                                     const RingRun& last) const;
   void mark_hidden_silhouettes(const Cloud& cloud);
   [[nodiscard]] bool at_one_range(const Cloud& cloud, const RingRun& run) const;
+  [[nodiscard]] bool at_one_range(const Cloud& cloud, std::size_t a, std::size_t b) const;
   [[nodiscard]] bool level_with_start(const RingRun& run) const;
   [[nodiscard]] bool hidden_by_object(const Cloud& cloud, std::size_t first, std::size_t last,
                                       std::size_t end, const RingBeyond& beyond, bool after) const;

@@ -183,6 +183,44 @@ TEST_CASE("column profiles: a ring is a closed curve across the frame's edge",
   CHECK(taken == static_cast<int>(road.size()));
 }
 
+TEST_CASE("column profiles: an object's face past a drop opens across the frame's edge",
+          "[detector][profiles]") {
+  // Sim slope_s4405 at 20 Hz: frames are cut straight ahead, where the road falls away past
+  // a grade change. Rings 0-4 see the road to 15 m; ring 5 meets a box 32.6 m out, 1 m under
+  // the road (columns 354-359, the frame's last), and across the edge a farther one (48 m
+  // out, columns 0-2); the sky all around else. The box's run opens onto the sky at one end
+  // and onto a return farther by more than the motion slack across the edge at the other:
+  // it stands out (rule 5).
+  struct Box {
+    float z = -1.f;        // under the road (z = 0): seen past a drop
+    float recede_m = 0.f;  // range added at each column: 0 is one face at one range
+  };
+  const auto box_ground = [](Box box) {
+    Scan s;
+    add_level_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f}, kColumns);
+    for (int col = 0; col < kColumns; ++col) {
+      if (col >= kColumns - 6) {
+        add(s, 5, col, 32.6f + box.recede_m * static_cast<float>(col - (kColumns - 6)), box.z, 2);
+      } else if (col <= 2) {
+        add(s, 5, col, 48.f, -2.4f, 2);
+      }
+    }
+    const auto ground = label(s).ground;
+    int taken = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      taken += s.cloud.ring[i] == 5 && s.cloud.column[i] >= kColumns - 6 ? ground[i] : 0;
+    }
+    return taken;
+  };
+  CHECK(box_ground({}) == 0);
+  // Level with the road, the run is a crest's top met by one ring straight ahead
+  // (hills_s2803): ground.
+  CHECK(box_ground({.z = 0.f}) == 6);
+  // Receding along the ring (0.8 m a column, within the run gap of each other), it is terrain
+  // met sideways: a valley's floor past a drop (hills_s1805 at 20 Hz), ground.
+  CHECK(box_ground({.recede_m = 0.8f}) == 6);
+}
+
 TEST_CASE("column profiles: an object a gap cut in two stands out whole",
           "[detector][profiles]") {
   // Sim hills_s102 (frame 2): past a crest, ring 6 meets a low object 33-34 m out whose
