@@ -278,6 +278,7 @@ class ColumnProfiles {
   [[nodiscard]] bool on_measured_level2(const ColumnPoint& q) const;
   [[nodiscard]] bool under_overhang(const ColumnPoint& q, const ColumnPoint& above) const;
   [[nodiscard]] bool face_goes_on_below(std::size_t begin, std::size_t k) const;
+  [[nodiscard]] std::size_t lower_ring_return(std::size_t begin, std::size_t k) const;
   [[nodiscard]] bool under_level_overhang(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool past_hidden_top(float r, float last_r, float last_z) const;
   [[nodiscard]] bool climb_levelled_off(float gradient, float step) const;

@@ -233,14 +233,20 @@ bool ColumnProfiles::on_measured_level2(const ColumnPoint& q) const {
 // trunk in a dip past a crest, whose lower ring met it 1.3 m lower: hills_s1005). The lower
 // return may be ground itself: then it is the foot, the face rising from it.
 bool ColumnProfiles::face_goes_on_below(Index begin, Index k) const {
-  const ColumnPoint& q = points_[k];
+  const Index j = lower_ring_return(begin, k);
+  if (j == kNone) return false;
+  const ColumnPoint &q = points_[k], &below = points_[j];
+  const float drop = q.z - below.z;
+  return drop > p_.face_below_m && std::abs(q.r - below.r) < drop;
+}
+
+// The column's return of the next lower ring than column point k's (column points
+// [begin, k)), skipping the other layer's return of k's own ring; kNone: none.
+std::size_t ColumnProfiles::lower_ring_return(Index begin, Index k) const {
   for (Index j = k; j > begin; --j) {
-    const ColumnPoint& below = points_[j - 1];
-    if (below.ring == q.ring) continue;  // the other layer's return of the same ring
-    const float drop = q.z - below.z;
-    return drop > p_.face_below_m && std::abs(q.r - below.r) < drop;
+    if (points_[j - 1].ring != points_[k].ring) return j - 1;
   }
-  return false;
+  return kNone;
 }
 
 // Whether `above`, the column's next return (a higher ring), lies more than overhang_m

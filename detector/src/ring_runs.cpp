@@ -760,13 +760,8 @@ bool ColumnProfiles::end_open(const Cloud& cloud, Index end, const RingBeyond& b
 // taken as ground: the walk met it as a lower surface past a grade change.
 bool ColumnProfiles::under_lower_ground(const Cloud& cloud, Index end) const {
   const Index k = position_[end];
-  const ColumnPoint& q = points_[k];
-  for (Index j = k; j > column_start_[cloud.column[end]];) {
-    const ColumnPoint& below = points_[--j];
-    if (below.ring == q.ring) continue;  // the other layer's return of the same ring
-    return below.ground != 0 && below.z - q.z > p_.drop_m;
-  }
-  return false;
+  const Index j = lower_ring_return(column_start_[cloud.column[end]], k);
+  return j != kNone && points_[j].ground != 0 && points_[j].z - points_[k].z > p_.drop_m;
 }
 
 // Whether the ray of return `end`, rising over the sensor, passed on where the same ring's
