@@ -278,7 +278,15 @@ class ColumnProfiles {
   [[nodiscard]] bool on_measured_level2(const ColumnPoint& q) const;
   [[nodiscard]] bool under_overhang(const ColumnPoint& q, const ColumnPoint& above) const;
   [[nodiscard]] bool face_goes_on_below(std::size_t begin, std::size_t k) const;
-  [[nodiscard]] std::size_t lower_ring_return(std::size_t begin, std::size_t k) const;
+  // The column's return of the next lower ring than column point k's (column points
+  // [begin, k)), skipping the other layer's return of k's own ring; kNone: none. Inline: the
+  // walk asks it of every steep return.
+  [[nodiscard]] std::size_t lower_ring_return(std::size_t begin, std::size_t k) const {
+    for (std::size_t j = k; j > begin; --j) {
+      if (points_[j - 1].ring != points_[k].ring) return j - 1;
+    }
+    return kNone;
+  }
   [[nodiscard]] bool under_level_overhang(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool past_hidden_top(float r, float last_r, float last_z) const;
   [[nodiscard]] bool climb_levelled_off(float gradient, float step) const;

@@ -240,15 +240,6 @@ bool ColumnProfiles::face_goes_on_below(Index begin, Index k) const {
   return drop > p_.face_below_m && std::abs(q.r - below.r) < drop;
 }
 
-// The column's return of the next lower ring than column point k's (column points
-// [begin, k)), skipping the other layer's return of k's own ring; kNone: none.
-std::size_t ColumnProfiles::lower_ring_return(Index begin, Index k) const {
-  for (Index j = k; j > begin; --j) {
-    if (points_[j - 1].ring != points_[k].ring) return j - 1;
-  }
-  return kNone;
-}
-
 // Whether `above`, the column's next return (a higher ring), lies more than overhang_m
 // nearer than q and over q's ray at its distance.
 bool ColumnProfiles::under_overhang(const ColumnPoint& q, const ColumnPoint& above) const {
