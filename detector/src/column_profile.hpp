@@ -280,7 +280,7 @@ class ColumnProfiles {
   [[nodiscard]] bool face_goes_on_below(std::size_t begin, std::size_t k) const;
   // The column's return of the next lower ring than column point k's (column points
   // [begin, k)), skipping the other layer's return of k's own ring; kNone: none. Inline: the
-  // walk asks it of every steep return.
+  // walk asks it of every steep return it would take as a wall's foot.
   [[nodiscard]] std::size_t lower_ring_return(std::size_t begin, std::size_t k) const {
     for (std::size_t j = k; j > begin; --j) {
       if (points_[j - 1].ring != points_[k].ring) return j - 1;
