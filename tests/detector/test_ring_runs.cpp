@@ -206,11 +206,8 @@ TEST_CASE("column profiles: an object's face past a drop opens across the frame'
       }
     }
     const auto ground = label(s).ground;
-    int taken = 0;
-    for (std::size_t i = 0; i < ground.size(); ++i) {
-      taken += s.cloud.ring[i] == 5 && s.cloud.column[i] >= kColumns - 6 ? ground[i] : 0;
-    }
-    return taken;
+    // Ring 5's ground in the box's columns, the frame's last six.
+    return ground_on_ring(s, ground, 5) - ground_on_ring(s, ground, 5, kColumns - 6);
   };
   CHECK(box_ground({}) == 0);
   // Level with the road, the run is a crest's top met by one ring straight ahead
