@@ -1,9 +1,9 @@
 // Detector speed over the frames of the sim captures: frames are loaded once with
 // CaptureReader, then GroundDetector::detect is timed per frame. Counters report the
 // per-stage times (ms per frame, averaged), the returns per frame, and the median and 90th
-// percentile of the frames' own times (frame_median_ms, frame_p90_ms): issue 10's limits are
-// per frame, and on a shared host a few frames stalled by other guests pull the mean (the
-// benchmark's time) up while the median stays.
+// percentile of the frames' own times in each repetition (frame_median_ms, frame_p90_ms):
+// issue 10's limits are per frame, and a median is not moved by a few stalled frames (on
+// this VM the slow spells slow every frame alike: docs/detector.md, "Speed").
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
