@@ -33,8 +33,8 @@ std::vector<Frame> load_frames(const std::string& stem) {
   return frames;
 }
 
-// The q-quantile of v (nearest rank; 0 when empty). Reorders v.
-double quantile(std::vector<double>& v, double q) {
+// The q-quantile of v (nearest rank; 0 when empty).
+double quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0;
   const auto at = static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1) + 0.5);
   std::nth_element(v.begin(), v.begin() + at, v.end());
@@ -104,12 +104,8 @@ void register_all() {
                                    [s = std::string(stem), m = std::string(method)](
                                        benchmark::State& st) { bm_detect(st, s, m); })
           ->Unit(benchmark::kMillisecond)
-          ->ComputeStatistics("median", [](const std::vector<double>& v) {
-            std::vector<double> c = v;
-            std::nth_element(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(c.size() / 2),
-                             c.end());
-            return c[c.size() / 2];
-          });
+          ->ComputeStatistics("median",
+                              [](const std::vector<double>& v) { return quantile(v, 0.5); });
     }
   }
 }
