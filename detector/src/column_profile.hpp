@@ -142,6 +142,8 @@ struct ProfileParams {
   // over a level-2 surface fitted to ground of its own there: it is on no lower surface,
   // so the kink was a low object in front (a fence line 0.3 m up, a bush), not a bend of the
   // terrain. The kink becomes an obstacle and the walk goes on from the ground before it.
+  // Only a kink rising from that ground by keep_gradient_rise per metre or more is taken
+  // back: one level with it is a descent levelling off.
   // Consecutive raised ground returns of a column along at most this, each more than drop_m
   // over the ground before and after them, are an object the walk climbed (a car roof, a
   // fence top seen by two rings), however they vouch for each other.
@@ -301,7 +303,8 @@ class ColumnProfiles {
                                              float last_z, float gradient) const;
   [[nodiscard]] bool rises_off_bound(float r, float z, float gradient,
                                      const GroundBound& bound) const;
-  [[nodiscard]] bool kink_was_an_object(std::size_t k, std::size_t profile_size_before) const;
+  [[nodiscard]] bool kink_was_an_object(std::size_t k, std::size_t profile_size_before,
+                                        float kink_step) const;
   [[nodiscard]] bool is_ground_neighbour(std::size_t k) const;
   [[nodiscard]] bool raised_over_level2(std::size_t k, float by) const;
   [[nodiscard]] bool rise_refuted(const Cloud& cloud, std::size_t c, std::size_t a,

@@ -572,6 +572,28 @@ TEST_CASE("column profiles: a kink the next return falls under, onto no lower su
   CHECK(label(s, level2, {}, true).ground[0] == 1);
 }
 
+TEST_CASE("column profiles: a kink level with the ground before it ends a descent, no object",
+          "[detector][profiles]") {
+  // Sim embankment_s4804_dual frame 2: ring 0 on a box's face 0.31 m up 5.7 m out, taken as
+  // the column's first ground; ring 1 on the road 7.0 m out (0.34 m under it: the profile
+  // now falls at 0.25); ring 2 on the road 8.1 m out, level with ring 1 (a kink from that
+  // fall); ring 3 on the embankment's side 27.5 m out, 1.05 m over the level-2 surface of
+  // the fields. Ring 2 did not rise from ring 1: the road, not an object to take back.
+  // `ring2_z`: ring 2's height (0.3 m up: a low object on the road, taken back).
+  const auto ring2 = [](float ring2_z) {
+    Scan s;
+    add(s, 0, 0, 5.71f, 0.31f, 2);
+    add(s, 1, 0, 6.99f, -0.03f, 1);
+    add(s, 2, 0, 8.06f, ring2_z, 1);
+    add(s, 3, 0, 27.53f, -1.54f, 1);
+    std::vector<float> level2 = s.cloud.z;
+    level2[3] = 1.05f;
+    return label(s, level2, {}, true).ground[2];
+  };
+  CHECK(ring2(-0.02f) == 1);
+  CHECK(ring2(0.3f) == 0);
+}
+
 TEST_CASE("column profiles: a shoulder level with a roof the rings over it met from below is none",
           "[detector][profiles]") {
   // Sim bank_s302: rings 0-11 climb a bank face at about 0.4; ring 12 meets, 14 m past
