@@ -105,10 +105,17 @@ struct ProfileParams {
   // lost up to 0.0005 F1, hills_s1202_tilt; at 0.3, gradient_step, bank_s2804_strongest
   // kept 77 of its 191 hedge returns as ground.)
   float hidden_top_bend = 0.2f;
-  float min_advance_m = 0.3f;  // nearer than this (horizontally) to the last ground return
+  float min_advance_m = 0.3f;    // nearer than this (horizontally) to the last ground return
   float anchor_slack_m = 0.05f;  // ... a ground return moves the profile's end at most
                                  // max_gradient x advance + this up or down
-  float steep_band_m = 0.06f;  // a steep return is ground only this close to the profile
+  float steep_band_m = 0.06f;    // a steep return is ground only this close to the profile
+  // ... but the column's first return, lying on the level-2 surface (within steep_band_m),
+  // down to this under the start's level profile, which is only a guess there: the foot of
+  // a low object at a crowned road's edge, 0.06-0.07 m under the vehicle's ground (ring 0,
+  // embankment_s4803 frame 4). Level 1 takes a steep return down to label_down_m under
+  // its plane; down to 0.1 m for every steep return of the walk, or 0.18, a face standing
+  // on a lower surface passed too (issue 10's session 61).
+  float first_foot_under_m = 0.1f;
   float steep_climb_m = 0.7f;  // ... where it climbs at most this past its last ground return
   // ... and at most this where the profile climbs gently (under gentle_climb_gradient): a
   // climb that gentle is no bank face measured ring after ring but may be a fence's foot,

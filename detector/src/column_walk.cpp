@@ -394,7 +394,12 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       const bool first_over_start = profile_size_ == 1 && k == begin && over > 0.f;
       const bool start_guessed = profile_size_ == 1 && !first_over_start;
       const float foot_m = first_over_start ? p_.first_foot_over_m : p_.plane_foot_m;
-      q.ground = (std::abs(over) < p_.steep_band_m && !guess_off && !climb_guessed) ||
+      // (the column's first return, on the level-2 surface, a little further under the
+      // start's level guess: first_foot_under_m)
+      const float under_m = k == begin && std::abs(q.level2_h) < p_.steep_band_m
+                                ? p_.first_foot_under_m
+                                : p_.steep_band_m;
+      q.ground = (over < p_.steep_band_m && over > -under_m && !guess_off && !climb_guessed) ||
                  (std::abs(plane_height[q.index]) < p_.steep_band_m &&
                   (std::abs(over) < foot_m || start_guessed));
       if (q.ground != 0 && face_goes_on_below(begin, k)) q.ground = 0;

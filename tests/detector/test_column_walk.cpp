@@ -572,6 +572,26 @@ TEST_CASE("column profiles: a kink the next return falls under, onto no lower su
   CHECK(label(s, level2, {}, true).ground[0] == 1);
 }
 
+TEST_CASE("column profiles: the column's first return at a foot may lie a little under the start",
+          "[detector][profiles]") {
+  // Sim embankment_s4803 frame 4: ring 0 on the crowned road's edge 7.15 m out, 0.07 m
+  // under the vehicle's ground, at the foot of a low object that ring 1 meets 7.2 m out,
+  // 0.19 m up (a steep pair), ring 2 on the fields 25.7 m out. The first return lies on the
+  // level-2 surface: the road, though outside the 0.06 m band of a steep return.
+  // `ring0_z`, `ring0_level2`: ring 0's height and its height over the level-2 surface.
+  const auto ring0 = [](float ring0_z, float ring0_level2) {
+    Scan s;
+    add(s, 0, 0, 7.15f, ring0_z, 1);
+    add(s, 1, 0, 7.2f, 0.19f, 2);
+    add(s, 2, 0, 25.7f, -2.22f, 1);
+    std::vector<float> level2 = {ring0_level2, 0.38f, 0.f};
+    return label(s, level2, {}, true).ground[0];
+  };
+  CHECK(ring0(-0.07f, -0.01f) == 1);
+  CHECK(ring0(-0.12f, -0.01f) == 0);  // more than 0.1 m under: a face on a lower surface
+  CHECK(ring0(-0.07f, 0.2f) == 0);    // the level-2 surface under it disagrees
+}
+
 TEST_CASE("column profiles: a kink level with the ground before it ends a descent, no object",
           "[detector][profiles]") {
   // Sim embankment_s4804_dual frame 2: ring 0 on a box's face 0.31 m up 5.7 m out, taken as
