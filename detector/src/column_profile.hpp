@@ -112,9 +112,9 @@ struct ProfileParams {
   // ... but the column's first return, lying on the level-2 surface (within steep_band_m),
   // down to this under the start's level profile, which is only a guess there: the foot of
   // a low object at a crowned road's edge, 0.06-0.07 m under the vehicle's ground (ring 0,
-  // embankment_s4803 frame 4). Level 1 takes a steep return down to label_down_m under
-  // its plane; down to 0.1 m for every steep return of the walk, or 0.18, a face standing
-  // on a lower surface passed too (issue 10's session 61).
+  // embankment_s4803 frame 4). Level 1 takes a steep return down to 0.5 m under its plane
+  // (LabelRule::down); down to 0.1 m for every steep return of the walk, or 0.18, a face
+  // standing on a lower surface passed too (issue 10's session 61).
   float first_foot_under_m = 0.1f;
   float steep_climb_m = 0.7f;  // ... where it climbs at most this past its last ground return
   // ... and at most this where the profile climbs gently (under gentle_climb_gradient): a
