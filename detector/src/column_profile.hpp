@@ -310,8 +310,7 @@ class ColumnProfiles {
                                              float last_z, float gradient) const;
   [[nodiscard]] bool rises_off_bound(float r, float z, float gradient,
                                      const GroundBound& bound) const;
-  [[nodiscard]] bool kink_was_an_object(std::size_t k, std::size_t profile_size_before,
-                                        float kink_step) const;
+  [[nodiscard]] bool kink_was_an_object(std::size_t k, std::size_t profile_size_before) const;
   [[nodiscard]] bool is_ground_neighbour(std::size_t k) const;
   [[nodiscard]] bool raised_over_level2(std::size_t k, float by) const;
   [[nodiscard]] bool rise_refuted(const Cloud& cloud, std::size_t c, std::size_t a,

@@ -264,14 +264,11 @@ bool ColumnProfiles::under_level_overhang(Index k, Index end) const {
 // extrapolated) was an object rather than a bend of the terrain: k stands more than
 // single_rise_m over a level-2 surface with ground of its own there, so it is on no lower
 // surface either, and the kink had ground of the column before it to go back to (not only
-// the start's guess: the street over a ramp's parapet, garage_s2). The kink also rose from
-// that ground, by keep_gradient_rise per metre or more (`kink_step`): one level with it only
-// ended a descent the profile's gradient carried on (the road behind a box on an
-// embankment, after the box's low return taken as the column's first ground and the road
-// 0.34 m under it: embankment_s4804_dual).
-bool ColumnProfiles::kink_was_an_object(Index k, Index profile_size_before, float kink_step) const {
-  return profile_size_before > 1 && kink_step >= p_.keep_gradient_rise &&
-         raised_over_level2(k, p_.single_rise_m) && level2_.measured(points_[k].index);
+// the start's guess: the street over a ramp's parapet, garage_s2). The walk asks only for a
+// kink that rose from that ground (`last_kinked` in walk_column).
+bool ColumnProfiles::kink_was_an_object(Index k, Index profile_size_before) const {
+  return profile_size_before > 1 && raised_over_level2(k, p_.single_rise_m) &&
+         level2_.measured(points_[k].index);
 }
 
 // One column outwards from the sensor. The profile is the last ground return (r, z) and
@@ -338,7 +335,6 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     float last_r, last_z, gradient, gradient_r;
     int last_ring;
     Index profile_size, last_ground;
-    float kink_step;  // the kink's gradient from the ground before it
   };
   BeforeKink before_kink{};
   bool last_kinked = false;
@@ -426,8 +422,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       }
       continue;
     }
-    if (last_kinked && over < -p_.drop_m &&
-        kink_was_an_object(k, before_kink.profile_size, before_kink.kink_step)) {
+    if (last_kinked && over < -p_.drop_m && kink_was_an_object(k, before_kink.profile_size)) {
       take_kink_back();
       --k;  // this return walked again (unsigned wrap-around at 0 is undone by the ++k)
       continue;
@@ -522,10 +517,14 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
     q.rises_on = blocked && profile_size_ <= 2 && !(std::abs(q.level2_h) <= p_.single_rise_m) &&
                  rises_over_its_ray(k, end, faces_only);
     q.kinked = step - gradient > p_.kink_gradient;
-    last_kinked = q.kinked != 0;
+    // Only a kink that rose from the ground before it, by keep_gradient_rise per metre or
+    // more, may be taken back: one level with that ground only ends a descent the profile's
+    // gradient carried on (the road behind a box on an embankment, after the box's low
+    // return taken as the column's first ground and the road 0.34 m under it:
+    // embankment_s4804_dual).
+    last_kinked = q.kinked != 0 && step >= p_.keep_gradient_rise;
     if (last_kinked) {
-      before_kink = {last_r,    last_z,        gradient,    gradient_r,
-                     last_ring, profile_size_, last_ground, step};
+      before_kink = {last_r, last_z, gradient, gradient_r, last_ring, profile_size_, last_ground};
     }
     q.resumed = blocked;
     // Ground level with the ground under the vehicle, no obstacle before it in the column:
