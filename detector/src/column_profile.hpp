@@ -361,7 +361,8 @@ class ColumnProfiles {
   void drop_wall_lines(const Cloud& cloud);
   [[nodiscard]] bool ground_and_face(const RingRun& run) const;
   void follow_wall_lines(const Cloud& cloud, const RingRun& run, bool forward);
-  [[nodiscard]] bool high_on_face(const Cloud& cloud, std::size_t k) const;
+  enum class FaceHeight : std::uint8_t { unknown, low, high, on_object };
+  [[nodiscard]] FaceHeight face_height(const Cloud& cloud, std::size_t k) const;
   void mark_broken_silhouettes(const Cloud& cloud);
   void mark_chained_silhouettes(const Cloud& cloud);
   [[nodiscard]] bool joined_across_small_cut(const Cloud& cloud, std::size_t i) const;

@@ -12,7 +12,7 @@ namespace vlpground::detail {
 using Index = std::size_t;
 
 namespace {
-// high_on_face: a hit this far over a lower ring's hit on the same face, itself an obstacle.
+// face_height: a hit this far over a lower ring's hit on the same face, itself an obstacle.
 constexpr float kFaceTwoRings_m = 0.4f;
 }  // namespace
 
@@ -25,7 +25,12 @@ constexpr float kFaceTwoRings_m = 0.4f;
 // steep return that is not high on its face (the ring came down to the face's foot), at a
 // ground return under the band, and at an obstacle return that is not steep: where a ring
 // runs along a ramp's retaining wall onto the street on its top, it crosses the wall's top
-// edge first (garage_s2).
+// edge first (garage_s2). It crosses such obstacle returns only where the face is two rings
+// tall (the lower ring's return on it is itself an obstacle on a steep face) and they lie
+// level with the face within the band and at its range within the run gap: the object's
+// own returns where the walk saw it rise too fast to be ground but no ring pair met it
+// steeply (an object on a bank's top, jam_s702 at 5 Hz). The ground it takes past them lies
+// within the band both ways: a bank rising on past a low object's top is not its line.
 void ColumnProfiles::drop_wall_lines(const Cloud& cloud) {
   refuted_.clear();
   refuted_.reserve(points_.size());  // grown once, with the cloud
@@ -60,44 +65,58 @@ bool ColumnProfiles::ground_and_face(const RingRun& run) const {
 
 // One sweep of drop_wall_lines along run `run` (forward: in column order).
 void ColumnProfiles::follow_wall_lines(const Cloud& cloud, const RingRun& run, bool forward) {
-  // The last steep obstacle return of the line (kNone: no line); whether it is high on its
-  // face is asked only when a ground return follows it (walls are long).
+  // The last steep obstacle return of the line (kNone: no line) and how high it is on its
+  // face, asked only when a return that is not steep follows it (walls are long).
   Index face = kNone;
-  int high = -1;  // -1: not asked yet
+  auto height = FaceHeight::unknown;
+  bool crossed = false;  // the line crossed obstacle returns that are not steep
   for (Index n = 0; n <= run.b - run.a; ++n) {
     const Index k = position_[forward ? run.a + n : run.b - n];
     const ColumnPoint& q = points_[k];
     if (q.steep != 0) {  // the face goes on: high on it, or down to its foot
       face = q.ground == 0 ? k : kNone;
-      high = -1;
+      height = FaceHeight::unknown;
+      crossed = false;
       continue;
     }
-    if (face != kNone && q.ground != 0 && q.z >= points_[face].z - p_.wall_line_band_m) {
-      if (high < 0) high = high_on_face(cloud, face) ? 1 : 0;
-      if (high != 0) {
-        refuted_.push_back(static_cast<std::uint32_t>(k));
-        continue;
-      }
+    if (face == kNone) continue;
+    const float face_z = points_[face].z, band = p_.wall_line_band_m;
+    if (q.z < face_z - band || (q.ground == 0 && q.z > face_z + band)) {
+      face = kNone;
+      continue;
+    }
+    if (height == FaceHeight::unknown) height = face_height(cloud, face);
+    if (q.ground != 0 && height != FaceHeight::low && (!crossed || q.z <= face_z + band)) {
+      refuted_.push_back(static_cast<std::uint32_t>(k));
+      continue;
+    }
+    if (q.ground == 0 && height == FaceHeight::on_object &&
+        std::abs(q.r - points_[face].r) <= run_gap(q.r)) {
+      crossed = true;
+      continue;
     }
     face = kNone;
   }
 }
 
-// Whether column point k (steep) lies more than drop_m over a lower ring's return of its
-// column on the same face (within the run gap in range), or more than kFaceTwoRings_m over
-// one that is itself an obstacle on a steep face: the face is then two rings tall, and
-// rings 1.33 degrees apart (Puck Hi-Res) meet it only 0.45 m apart 20 m out (bank_s105).
-bool ColumnProfiles::high_on_face(const Cloud& cloud, Index k) const {
+// How high column point k (steep) lies on its face: more than drop_m over a lower ring's
+// return of its column on the same face (within the run gap in range), or more than
+// kFaceTwoRings_m over one that is itself an obstacle on a steep face (on_object): the face
+// is then two rings tall, and rings 1.33 degrees apart (Puck Hi-Res) meet it only 0.45 m
+// apart 20 m out (bank_s105).
+ColumnProfiles::FaceHeight ColumnProfiles::face_height(const Cloud& cloud, Index k) const {
   const ColumnPoint& q = points_[k];
   const Index begin = column_start_[cloud.column[q.index]];
   const float gap = run_gap(q.r);
+  auto height = FaceHeight::low;
   for (Index j = begin; j < k; ++j) {
     const ColumnPoint& low = points_[j];
     if (low.ring >= q.ring || std::abs(low.r - q.r) > gap) continue;
-    const bool low_on_face = low.steep != 0 && low.ground == 0;
-    if (q.z - low.z > (low_on_face ? kFaceTwoRings_m : p_.drop_m)) return true;
+    if (low.steep != 0 && low.ground == 0 && q.z - low.z > kFaceTwoRings_m)
+      return FaceHeight::on_object;
+    if (q.z - low.z > p_.drop_m) height = FaceHeight::high;
   }
-  return false;
+  return height;
 }
 
 // Run [begin, end) of one ring: an obstacle near the sensor (a trunk, a box, a car) hides
