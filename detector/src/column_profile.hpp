@@ -361,6 +361,9 @@ class ColumnProfiles {
   void drop_wall_lines(const Cloud& cloud);
   [[nodiscard]] bool ground_and_face(const RingRun& run) const;
   void follow_wall_lines(const Cloud& cloud, const RingRun& run, bool forward);
+  // How high a steep return lies on its face (face_height): low (near its foot, or no lower
+  // ring met the face), high (more than drop_m over a lower ring's return on it), on_object
+  // (over one that is itself an obstacle on the face: two rings tall); unknown: not asked.
   enum class FaceHeight : std::uint8_t { unknown, low, high, on_object };
   [[nodiscard]] FaceHeight face_height(const Cloud& cloud, std::size_t k) const;
   void mark_broken_silhouettes(const Cloud& cloud);

@@ -29,8 +29,9 @@ constexpr float kFaceTwoRings_m = 0.4f;
 // tall (the lower ring's return on it is itself an obstacle on a steep face) and they lie
 // level with the face within the band and at its range within the run gap: the object's
 // own returns where the walk saw it rise too fast to be ground but no ring pair met it
-// steeply (an object on a bank's top, jam_s702 at 5 Hz). The ground it takes past them lies
-// within the band both ways: a bank rising on past a low object's top is not its line.
+// steeply (a tall vehicle's side in a jam, jam_s702 at 5 Hz; an object on a bank's top). The ground
+// it takes past them lies within the band both ways: a bank rising on past a low object's top is
+// not its line.
 void ColumnProfiles::drop_wall_lines(const Cloud& cloud) {
   refuted_.clear();
   refuted_.reserve(points_.size());  // grown once, with the cloud

@@ -287,13 +287,13 @@ TEST_CASE("column profiles: a ring's line running on from high on a wall is that
 
 TEST_CASE("column profiles: a wall's line runs on across its returns that are not steep",
           "[detector][profiles]") {
-  // Sim bank_s4804 at Hi-Res and jam_s702 at 5 Hz: ring 4 runs along an object 16 m out on
-  // a bank's top. In columns 20-39 ring 3 meets the object's face too, itself an obstacle
-  // 0.6 m under ring 4: the face is two rings tall. In columns 10-19 ring 3 lies on the bank
-  // 1 m nearer and 0.7 m lower: ring 4's returns there are obstacles to the walk but not
-  // steep. In columns 0-9 ring 3 meets the bank and ring 4, level with the face, bends the
-  // profile gently up the bank (ground to the walk). The line crosses columns 10-19, level
-  // with the face and at its range, and takes columns 0-9 as the object.
+  // As in sim bank_s4804 at Hi-Res: ring 4 runs along an object 16 m out on a bank's top. In
+  // columns 20-39 ring 3 meets the object's face too, itself an obstacle 0.6 m under ring 4: the
+  // face is two rings tall. In columns 10-19 ring 3 lies on the bank 1 m nearer and 0.7 m lower:
+  // ring 4's returns there are obstacles to the walk but not steep. In columns 0-9 ring 3 meets the
+  // bank and ring 4, level with the face, bends the profile gently up the bank (ground to the
+  // walk). The line crosses columns 10-19, level with the face and at its range, and takes columns
+  // 0-9 as the object.
   const auto scan = [](float near_z) {
     Scan s;
     add_bank_rings(s, 3, 40);
@@ -311,7 +311,8 @@ TEST_CASE("column profiles: a wall's line runs on across its returns that are no
   const auto ring4_ground = [](const Scan& s) { return ground_on_ring(s, label(s).ground, 4, 10); };
   CHECK(ring4_ground(scan(1.9f)) == 0);
   // Past the crossing the line is level both ways: ground rising more than the band over
-  // the face (an object's top at the bank's level, the bank rising on) stays ground.
+  // the face (an object's top at the bank's level, the bank rising on) stays ground, all
+  // but the return next to the object's (9 of 10; none without the band both ways).
   CHECK(ring4_ground(scan(2.2f)) == 9);
 }
 
