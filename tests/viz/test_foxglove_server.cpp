@@ -276,6 +276,40 @@ TEST_CASE("20 clients coming and going while another one receives everything") {
   CHECK(server.stats().clients.size() == 1);
 }
 
+TEST_CASE("a client whose replies pile up is dropped while channels are added") {
+  // A session whose unread replies reach the limit closes itself from inside the call that
+  // queues one more; adding channels queues an advertisement to every session, so it must
+  // not hold the registry's lock then (closing takes it: the call would never return).
+  Logged logged;
+  FoxgloveServer server(test_config(logged), viz::FrameEncoder().channels());
+  auto stuck = subscribed_client(server, 1);
+  REQUIRE(wait_until([&] { return subscriptions_total(server) == 1; }));
+  const std::string payload(256 * 1024, 'p');
+  for (int i = 0; i < 150; ++i) server.publish(0, i, bytes_of(payload));  // past the socket buffers
+  const auto queued = [&] {
+    const auto clients = server.stats().clients;
+    return clients.size() == 1 ? clients[0].queued_bytes : 0;
+  };
+  REQUIRE(wait_until([&] { return queued() > 0; }));
+  const std::size_t stalled = queued();
+  const std::string request = R"({"op":"getParameters","parameterNames":[]})";
+  stuck->send_text(request);
+  REQUIRE(wait_until([&] { return queued() > stalled; }));
+  const std::size_t reply = queued() - stalled;
+  constexpr std::size_t kUnreadReplies = 64;  // the most a session keeps (ws_session.cpp)
+  for (std::size_t i = 1; i < kUnreadReplies; ++i) stuck->send_text(request);
+  REQUIRE(wait_until([&] { return queued() == stalled + kUnreadReplies * reply; }));
+  CHECK(server.stats().clients_dropped == 0);
+  viz::FrameEncoderConfig rear;
+  rear.topic_prefix = "/vlpground/rear";
+  CHECK(server.add_channels(viz::FrameEncoder(rear).channels()) == 4);
+  CHECK(server.stats().clients_dropped == 1);
+  CHECK(logged.contains("does not read its replies"));
+  CHECK(server.stats().clients.empty());
+  WsTestClient late(server.port());  // and the server still serves
+  CHECK(late.read_json()["op"] == "serverInfo");
+}
+
 TEST_CASE("bad server configuration is refused, and a busy port is a clear error") {
   viz::ServerConfig c;
   c.address = "localhost:80";

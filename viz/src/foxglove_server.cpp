@@ -154,11 +154,21 @@ struct FoxgloveServer::Impl {
       core.advertise = detail::advertise_json(core.channels);
       core.channel_count = core.channels.size();
       const std::string update = detail::advertise_json(more, first);
-      std::lock_guard lock(core.mutex);
-      for (auto& [id, s] : core.sessions) s->send_text(update);
+      // Outside the lock: a session whose queue overflows closes, and leaving the registry
+      // takes the lock.
+      for (auto& s : sessions_now()) s->send_text(update);
       done.set_value(first);
     });
     return done.get_future().get();
+  }
+
+  // The sessions registered now, held so that each may close (and leave the registry)
+  // while the caller goes through them.
+  [[nodiscard]] std::vector<std::shared_ptr<detail::WsSession>> sessions_now() const {
+    std::vector<std::shared_ptr<detail::WsSession>> sessions;
+    std::lock_guard lock(core.mutex);
+    for (const auto& [id, s] : core.sessions) sessions.push_back(s);
+    return sessions;
   }
 
   // Server thread: hands the published messages to the sessions.
@@ -169,11 +179,7 @@ struct FoxgloveServer::Impl {
       batch.swap(handoff);
       drain_posted = false;
     }
-    std::vector<std::shared_ptr<detail::WsSession>> sessions;
-    {
-      std::lock_guard lock(core.mutex);
-      for (auto& [id, s] : core.sessions) sessions.push_back(s);
-    }
+    const auto sessions = sessions_now();
     for (const Outgoing& m : batch) {
       for (auto& s : sessions) s->send_data(m.channel, m.log_time_ns, m.payload);
     }
@@ -235,13 +241,13 @@ bool FoxgloveServer::flush(std::chrono::milliseconds timeout) {
 ServerStats FoxgloveServer::stats() const {
   const auto& c = impl_->core;
   ServerStats s;
+  std::lock_guard lock(c.mutex);  // the counters and the clients listed as one snapshot
   s.clients_accepted = c.clients_accepted;
   s.clients_closed = c.clients_closed;
   s.clients_dropped = c.clients_dropped;
   s.http_requests = c.http_requests;
   s.messages_published = c.messages_published;
   s.publish_dropped = c.publish_dropped;
-  std::lock_guard lock(c.mutex);
   for (const auto& [id, session] : c.sessions) s.clients.push_back(session->stats());
   return s;
 }

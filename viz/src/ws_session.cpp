@@ -230,14 +230,18 @@ void WsSession::close(const std::string& reason, bool dropped) {
   subscriptions_.clear();
   subscription_count_ = 0;
   if (open_) {
-    ++core_.clients_closed;
-    if (dropped) ++core_.clients_dropped;
+    {
+      // Leaving the registry and counting the close are one step to stats(), which reads
+      // both under the same lock: a client closed is never still listed.
+      std::lock_guard lock(core_.mutex);
+      core_.sessions.erase(id_);
+      ++core_.clients_closed;
+      if (dropped) ++core_.clients_dropped;
+    }
     core_.log("client " + std::to_string(id_) + " (" + remote_ + ") " +
               (dropped ? "dropped: " : "left: ") + reason + "; sent " + std::to_string(sent_) +
               " messages, dropped " + std::to_string(dropped_) + " for being slow, peak queue " +
               std::to_string(peak_queued_bytes_) + " bytes");
-    std::lock_guard lock(core_.mutex);
-    core_.sessions.erase(id_);
   }
   beast::error_code ignored;
   beast::get_lowest_layer(ws_).socket().shutdown(net::ip::tcp::socket::shutdown_both, ignored);
