@@ -88,12 +88,7 @@ struct FoxgloveServer::Impl {
     net::post(ioc, [this, &closed] {
       boost::system::error_code ignored;
       acceptor.close(ignored);
-      std::map<std::uint64_t, std::shared_ptr<detail::WsSession>> sessions;
-      {
-        std::lock_guard lock(core.mutex);
-        sessions = core.sessions;
-      }
-      for (auto& [id, s] : sessions) s->close("server stopping", false);
+      for (auto& s : sessions_now()) s->close("server stopping", false);
       closed.set_value();
     });
     closed.get_future().wait_for(std::chrono::seconds(2));
