@@ -314,7 +314,11 @@ bool ColumnProfiles::level_with_start(const RingRun& run) const {
 // frames are cut straight ahead, where a car in the vehicle's lane hides one behind it
 // (jam), and cars stand one behind the other on a ramp falling away out of the rings'
 // reach (slope_s2703). Past the object, nearer ground across the edge is not followed: on
-// a hill's side the ring runs on nearer all around (hills_s1902 at 20 Hz).
+// a hill's side the ring runs on nearer all around (hills_s1902 at 20 Hz). Where the ring
+// goes to the sky at the object's far end (sky_columns or more without a return), the run
+// is hidden: past a crest an object 35 m out beside a nearer one with the sky beyond it
+// (crest_s1001 tilted). Only while still passing the object: past it the walk follows the
+// ring on, and the sky far along it says nothing of the run (hills_s5 at 20 Hz).
 bool ColumnProfiles::hidden_by_object(const Cloud& cloud, Index first, Index last, Index end,
                                       const RingBeyond& beyond, bool after) const {
   if (beyond.index == kNone || beyond.gap >= p_.sky_columns || stands_out_[beyond.index] == 0 ||
@@ -324,9 +328,17 @@ bool ColumnProfiles::hidden_by_object(const Cloud& cloud, Index first, Index las
   const float r = cloud.range_xy[end];
   Index i = beyond.index;
   bool across = beyond.across;
+  bool passing = true;  // every return walked so far stands out: the object in front
   do {
     if (after ? i + 1 < last : i > first) {
+      const Index from = i;
       i = after ? i + 1 : i - 1;
+      passing = passing && stands_out_[from] != 0;
+      // The ring went to the sky past the object: it did not come out there, whatever it
+      // meets farther on (crest_s1001 tilted: another object 19 m out, past the sky).
+      const int skipped =
+          std::abs(static_cast<int>(cloud.column[i]) - static_cast<int>(cloud.column[from])) - 1;
+      if (passing && skipped >= p_.sky_columns) return true;
     } else {
       int around = 0;
       // Across the frame's edge only while passing the object, once.

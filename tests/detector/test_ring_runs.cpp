@@ -617,6 +617,8 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
     float past_r = 60.f;  // where the ring lands past the near box
     float past_z = -2.f;
     int edge_returns = 0;  // returns 25 m out, level with the vehicle's ground, after the far box
+    int level_past_box = 0;  // columns of level ground 29 m out right past the near box
+    int sky_past_box = 0;    // columns without a return after those, before past_r
   };
   const auto far_box_ground = [](const Ring6& ring6) {
     Scan s;
@@ -625,7 +627,11 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
     for (int col = 15; col <= far_end; ++col) add(s, 6, col, 30.8f, ring6.far_z, 2);
     for (int col = far_end + 1; col <= 22; ++col) add(s, 6, col, 25.f, 0.f, 2);
     for (int col = 24; col <= 38; ++col) add(s, 6, col, 16.f, 1.f, 2);
-    for (int col = 39; col <= 60; ++col) add(s, 6, col, ring6.past_r, ring6.past_z, 1);
+    const int level_end = 39 + ring6.level_past_box;
+    for (int col = 39; col < level_end; ++col) add(s, 6, col, 29.f, 0.f, 1);
+    for (int col = level_end + ring6.sky_past_box; col <= 60; ++col) {
+      add(s, 6, col, ring6.past_r, ring6.past_z, 1);
+    }
     // The level-2 surface at z = 0.
     return ground_on_ring(s, label(s, s.cloud.z).ground, 6, far_end + 1);
   };
@@ -638,6 +644,17 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
   // The ring comes out behind the near box where it went in: terrain passing behind a tree
   // trunk (hills_s1802 at 20 Hz), which the trunk only hides.
   CHECK(far_box_ground({.past_r = 30.9f, .past_z = 0.25f}) == 8);
+  // Only while still passing the object: where the ring goes to the sky past the near box
+  // first, it did not come out there, whatever it meets beyond (crest_s1001 tilted: ring 5
+  // on an object 35 m out past a crest, beside a nearer object 16 m out; past that one the
+  // sky, then another object at 19 m).
+  CHECK(far_box_ground({.past_r = 30.9f, .past_z = 0.25f, .sky_past_box = 5}) == 0);
+  // A drop-out (fewer columns than the sky takes) is not the sky: the ring came out there.
+  CHECK(far_box_ground({.past_r = 30.9f, .past_z = 0.25f, .sky_past_box = 2}) == 8);
+  // Past the object the ring ran on over level ground first: the sky after that says
+  // nothing of the far box, and the ring came out where it went in (hills_s5 at 20 Hz).
+  CHECK(far_box_ground(
+            {.past_r = 30.9f, .past_z = 0.25f, .level_past_box = 14, .sky_past_box = 4}) == 8);
   // Level with the ground under the vehicle: the road between two parked cars (jam).
   CHECK(far_box_ground({.far_z = 0.05f}) == 8);
 }
