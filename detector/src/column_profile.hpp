@@ -373,6 +373,7 @@ class ColumnProfiles {
   [[nodiscard]] bool face_over_line(const Cloud& cloud, const RingRun& first,
                                     const RingRun& last) const;
   void mark_hidden_silhouettes(const Cloud& cloud);
+  [[nodiscard]] bool hidden_run(const Cloud& cloud, const RingRun& run) const;
   [[nodiscard]] bool at_one_range(const Cloud& cloud, const RingRun& run) const;
   [[nodiscard]] bool at_one_range(const Cloud& cloud, std::size_t a, std::size_t b) const;
   [[nodiscard]] bool level_with_start(const RingRun& run) const;

@@ -244,35 +244,45 @@ bool ColumnProfiles::face_over_line(const Cloud& cloud, const RingRun& first,
 // where a ring tracing terrain sideways recedes along it (bank_s1805 tilted: ring 10 on a
 // bank's top, 17 -> 23 m out between two bushes). A run with a return level with the ground
 // under the vehicle stays: the road between two parked cars, joined by the ring to the
-// lower one's side (jam). Marked again while runs are added: each one found may hide the
-// next. Only with the mounting height known: the ground under the vehicle is then z = 0,
-// not the level-2 surface's guess (the real captures, run without it, lose a ring's runs
-// between bushes on rising terrain: vlp16_outdoor_600rpm).
+// lower one's side (jam). Marked again while runs are added, until none is: each one found
+// may hide the next, and chains run long (cars one behind the other down a ramp, an
+// object's edge stepping back column by column, each step a run of its own). A mark only
+// helps hide another run, so the marks found do not depend on the order; the passes
+// alternate direction along the rings so that a chain either way takes few. Only with the
+// mounting height known: the ground under the vehicle is then z = 0, not the level-2
+// surface's guess (the real captures, run without it, lose a ring's runs between bushes on
+// rising terrain: vlp16_outdoor_600rpm).
 void ColumnProfiles::mark_hidden_silhouettes(const Cloud& cloud) {
   if (p_.sensor_z <= 0.f) return;
-  constexpr int kMaxPasses = 4;
-  for (int pass = 0; pass < kMaxPasses; ++pass) {
-    bool added = false;
-    for (const RingRun& run : runs_) {
-      const bool over_sensor = cloud.z[run.a] >= p_.sensor_z || cloud.z[run.b] >= p_.sensor_z;
-      if (run.wrap != kNoRun || stands_out_[run.a] != 0 ||
-          apart(cloud, run.a, run.b, p_.silhouette_max_m) ||
-          (over_sensor && !at_one_range(cloud, run))) {
-        continue;
+  const std::size_t runs = runs_.size();
+  for (bool added = true, forward = true; added; forward = !forward) {
+    added = false;
+    for (std::size_t n = 0; n < runs; ++n) {
+      const RingRun& run = runs_[forward ? n : runs - 1 - n];
+      if (stands_out_[run.a] == 0 && hidden_run(cloud, run)) {
+        mark_standing_out(run);
+        added = true;
       }
-      const RingBeyond before = beyond_end(cloud, run.first, run.last, run.a, false);
-      const RingBeyond after = beyond_end(cloud, run.first, run.last, run.b, true);
-      // The open end first: hidden_by_object walks the ring past the object in front.
-      const bool hidden = (end_open(cloud, run.a, before) &&
-                           hidden_by_object(cloud, run.first, run.last, run.b, after, true)) ||
-                          (end_open(cloud, run.b, after) &&
-                           hidden_by_object(cloud, run.first, run.last, run.a, before, false));
-      if (!hidden || level_with_start(run)) continue;  // walked only for a hidden run
-      mark_standing_out(run);
-      added = true;
     }
-    if (!added) break;
   }
+}
+
+// Whether run `run` (not standing out) is hidden at one end by an object in front and opens
+// at the other (mark_hidden_silhouettes).
+bool ColumnProfiles::hidden_run(const Cloud& cloud, const RingRun& run) const {
+  const bool over_sensor = cloud.z[run.a] >= p_.sensor_z || cloud.z[run.b] >= p_.sensor_z;
+  if (run.wrap != kNoRun || apart(cloud, run.a, run.b, p_.silhouette_max_m) ||
+      (over_sensor && !at_one_range(cloud, run))) {
+    return false;
+  }
+  const RingBeyond before = beyond_end(cloud, run.first, run.last, run.a, false);
+  const RingBeyond after = beyond_end(cloud, run.first, run.last, run.b, true);
+  // The open end first: hidden_by_object walks the ring past the object in front.
+  const bool hidden = (end_open(cloud, run.a, before) &&
+                       hidden_by_object(cloud, run.first, run.last, run.b, after, true)) ||
+                      (end_open(cloud, run.b, after) &&
+                       hidden_by_object(cloud, run.first, run.last, run.a, before, false));
+  return hidden && !level_with_start(run);  // walked only for a hidden run
 }
 
 // Whether run `run`'s returns lie within one run gap in range of its nearest.

@@ -659,6 +659,31 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
   CHECK(far_box_ground({.far_z = 0.05f}) == 8);
 }
 
+TEST_CASE("column profiles: a chain of hidden runs stands out however long",
+          "[detector][profiles]") {
+  // Sim crest_s1001 tilted: an object's edge stepping back column by column, each step a
+  // run of its own, between a nearer object (standing out) and a farther one past a
+  // crest. Rings 0-5 see the vehicle's plateau to 20 m. Ring 6: the sky (columns 0-9), a
+  // box 30.8 m out (10-16), `steps` returns each 0.9 m nearer than the one before (17 on),
+  // a box 16 m out (standing out), then the ground 60 m out. Each step is hidden by the
+  // one after it, the box 30.8 m out by the last: a chain against the columns' order.
+  const auto far_box_ground = [](int steps) {
+    Scan s;
+    add_level_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}, 61);
+    for (int col = 10; col <= 16; ++col) add(s, 6, col, 30.8f, 0.24f, 2);
+    const int near_from = 17 + steps;
+    for (int step = 0; step < steps; ++step) {
+      add(s, 6, 17 + step, 16.f + 0.9f * static_cast<float>(steps - step), 1.f, 2);
+    }
+    for (int col = near_from; col < near_from + 12; ++col) add(s, 6, col, 16.f, 1.f, 2);
+    for (int col = near_from + 12; col <= 60; ++col) add(s, 6, col, 60.f, -2.f, 1);
+    return ground_on_ring(s, label(s, s.cloud.z).ground, 6, 17);
+  };
+  CHECK(far_box_ground(0) == 0);
+  CHECK(far_box_ground(6) == 0);
+  CHECK(far_box_ground(10) == 0);
+}
+
 TEST_CASE("column profiles: over the sensor, a hidden run stands out only at one range",
           "[detector][profiles]") {
   // Sim hills_s603 at 20 Hz (frame 1): the terrain climbs at 0.1 past the sensor's height.
