@@ -666,7 +666,8 @@ TEST_CASE("column profiles: a chain of hidden runs stands out however long",
   // crest. Rings 0-5 see the vehicle's plateau to 20 m. Ring 6: the sky (columns 0-9), a
   // box 30.8 m out (10-16), `steps` returns each 0.9 m nearer than the one before (17 on),
   // a box 16 m out (standing out), then the ground 60 m out. Each step is hidden by the
-  // one after it, the box 30.8 m out by the last: a chain against the columns' order.
+  // one after it, the box 30.8 m out by the farthest step: a chain against the columns'
+  // order.
   const auto far_box_ground = [](int steps) {
     Scan s;
     add_level_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}, 61);
