@@ -22,6 +22,12 @@ bool close_in_range_and_height(const Cloud& cloud, std::size_t a, std::size_t b,
   return close_in_range_and_height(cloud.range_xy[b] - cloud.range_xy[a], cloud.z[b] - cloud.z[a],
                                    limit);
 }
+
+// The columns without a return between returns a and b of one ring (either order, on the
+// same side of the frame's edge).
+int columns_between(const Cloud& cloud, std::size_t a, std::size_t b) {
+  return std::abs(static_cast<int>(cloud.column[b]) - static_cast<int>(cloud.column[a])) - 1;
+}
 }  // namespace
 
 // Along each ring (strongest layer), runs of returns continuous in space: the run [a, b]
@@ -187,8 +193,8 @@ bool ColumnProfiles::joined_across_small_cut(const Cloud& cloud, std::size_t i) 
   if (one.b + 1 >= one.last || one.wrap != kNoRun || runs_[i + 1].wrap != kNoRun) return false;
   const Index end = one.b, start = runs_[i + 1].a;
   if (cloud.z[end] >= p_.sensor_z || cloud.z[start] >= p_.sensor_z) return false;
-  const int cut = cloud.column[start] - cloud.column[end] - 1;
-  return cut < p_.sky_columns && !apart(cloud, end, start, 2.f * run_gap(cloud.range_xy[end]));
+  return columns_between(cloud, end, start) < p_.sky_columns &&
+         !apart(cloud, end, start, 2.f * run_gap(cloud.range_xy[end]));
 }
 
 // Whether every run of runs_[i..j] lies more than single_rise_m over the level-2 surface at
@@ -346,9 +352,7 @@ bool ColumnProfiles::hidden_by_object(const Cloud& cloud, Index first, Index las
       passing = passing && stands_out_[from] != 0;
       // The ring went to the sky past the object: it did not come out there, whatever it
       // meets farther on (crest_s1001 tilted: another object 19 m out, past the sky).
-      const int skipped =
-          std::abs(static_cast<int>(cloud.column[i]) - static_cast<int>(cloud.column[from])) - 1;
-      if (passing && skipped >= p_.sky_columns) return true;
+      if (passing && columns_between(cloud, from, i) >= p_.sky_columns) return true;
     } else {
       int around = 0;
       // Across the frame's edge only while passing the object, once.
@@ -725,7 +729,7 @@ ColumnProfiles::RingBeyond ColumnProfiles::beyond_end(const Cloud& cloud, Index 
   const int column = cloud.column[end];
   if (after ? end + 1 < last : end > first) {
     const Index beyond = after ? end + 1 : end - 1;
-    return {beyond, std::abs(static_cast<int>(cloud.column[beyond]) - column) - 1};
+    return {beyond, columns_between(cloud, end, beyond)};
   }
   int around = 0;
   const Index across = across_edge(cloud, first, last, end, after, around);
