@@ -148,7 +148,9 @@ struct ProfileParams {
   // more than drop_m under the profile the kink extrapolated, yet more than single_rise_m
   // over a level-2 surface fitted to ground of its own there: it is on no lower surface,
   // so the kink was a low object in front (a fence line 0.3 m up, a bush), not a bend of the
-  // terrain. The kink becomes an obstacle and the walk goes on from the ground before it.
+  // terrain; or when it lies on such a surface within single_rise_m of the ground before
+  // the kink extrapolated, under half the kink's rise over that ground: the ground ran on
+  // under the kink. The kink becomes an obstacle and the walk goes on from the ground before it.
   // Only a kink rising from that ground by keep_gradient_rise per metre or more is taken
   // back: one level with it is a descent levelling off.
   // Consecutive raised ground returns of a column along at most this, each more than drop_m
@@ -310,7 +312,15 @@ class ColumnProfiles {
                                              float last_z, float gradient) const;
   [[nodiscard]] bool rises_off_bound(float r, float z, float gradient,
                                      const GroundBound& bound) const;
-  [[nodiscard]] bool kink_was_an_object(std::size_t k, std::size_t profile_size_before) const;
+  // The walk's state before its last ground return, kept while that return is a kink
+  // (kink_was_an_object may take it back).
+  struct BeforeKink {
+    float last_r, last_z, gradient, gradient_r;
+    int last_ring;
+    std::size_t profile_size, last_ground;
+  };
+  [[nodiscard]] bool kink_was_an_object(std::size_t k, const BeforeKink& before, float kink_r,
+                                        float kink_z) const;
   [[nodiscard]] bool is_ground_neighbour(std::size_t k) const;
   [[nodiscard]] bool raised_over_level2(std::size_t k, float by) const;
   [[nodiscard]] bool rise_refuted(const Cloud& cloud, std::size_t c, std::size_t a,
