@@ -572,6 +572,42 @@ TEST_CASE("column profiles: a kink the next return falls under, onto no lower su
   CHECK(label(s, level2, {}, true).ground[0] == 1);
 }
 
+TEST_CASE("column profiles: a kink the ground runs on under, past it, was an object",
+          "[detector][profiles]") {
+  // Sim fences_s203_tilt frame 2, column 840: rings 0-1 on the field, ring 2 on a mesh
+  // fence's low wires 0.9 m past ring 1 and 0.26 m up (it bends the profile up: a kink),
+  // ring 3 through the mesh onto the field 26.6 m out, far under the profile the kink
+  // extrapolated, level with the field before the kink, on a level-2 surface with ground of
+  // its own. The field ran on under the kink: the kink was the fence.
+  // `kink_z`, `past_z`: heights of ring 2 and ring 3; `measured`: whether the level-2 surface
+  // has ground of its own under ring 3. Returns ring 2's label.
+  const auto kink = [](float kink_z, float past_z, bool measured) {
+    Scan s;
+    add(s, 0, 0, 9.7f, 0.f, 1);
+    add(s, 1, 0, 12.2f, 0.f, 1);
+    add(s, 2, 0, 13.1f, kink_z, 2);
+    add(s, 3, 0, 26.6f, past_z, 1);
+    std::vector<bool> has_ground(s.cloud.size(), true);
+    has_ground[3] = measured;
+    std::vector<float> level2 = s.cloud.z;  // heights over a level-2 surface at z = 0 ...
+    level2[2] = 0.f;                        // ... which climbed onto the fence line
+    return label_by_cell(s, level2, {}, has_ground).ground[2];
+  };
+  CHECK(kink(0.26f, -0.05f, true) == 0);
+  // No ground of its own under ring 3 (the cells only extrapolate there, as past a valley's
+  // near side): ring 3 may be a lower surface, and the kink stays ground.
+  CHECK(kink(0.26f, -0.05f, false) == 1);
+  // Sim urban_s4_hires, a kerb: ring 0 on the road 10.7 m out, ring 1 on the pavement 0.5 m
+  // farther and 0.18 m up (a kink), ring 2 on the pavement 13.1 m out, more than drop_m
+  // under the profile the kink extrapolated, 0.19 m over the road extrapolated but level
+  // with the kink: the pavement, not ground running on under an object.
+  Scan kerb;
+  const float kr[] = {10.7f, 11.2f, 13.1f, 15.8f}, kz[] = {-0.1f, 0.08f, 0.09f, 0.12f};
+  for (int ring = 0; ring < 4; ++ring) add(kerb, ring, 0, kr[ring], kz[ring], 1);
+  CHECK(label(kerb, std::vector<float>(4, 0.f), {}, true).ground ==
+        std::vector<std::uint8_t>(4, 1));
+}
+
 TEST_CASE("column profiles: the column's first return at a foot may lie a little under the start",
           "[detector][profiles]") {
   // Sim embankment_s4803 frame 4: ring 0 on the crowned road's edge 7.15 m out, 0.07 m
