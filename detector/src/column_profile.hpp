@@ -149,8 +149,8 @@ struct ProfileParams {
   // over a level-2 surface fitted to ground of its own there: it is on no lower surface,
   // so the kink was a low object in front (a fence line 0.3 m up, a bush), not a bend of the
   // terrain; or when it lies on such a surface within single_rise_m of the ground before
-  // the kink extrapolated, under half the kink's rise over that ground: the ground ran on
-  // under the kink. The kink becomes an obstacle and the walk goes on from the ground before it.
+  // the kink extrapolated, nearer to it than to the kink's height: the ground ran on under
+  // the kink. The kink becomes an obstacle and the walk goes on from the ground before it.
   // Only a kink rising from that ground by keep_gradient_rise per metre or more is taken
   // back: one level with it is a descent levelling off.
   // Consecutive raised ground returns of a column along at most this, each more than drop_m
@@ -319,7 +319,7 @@ class ColumnProfiles {
     int last_ring;
     std::size_t profile_size, last_ground;
   };
-  [[nodiscard]] bool kink_was_an_object(std::size_t k, const BeforeKink& before, float kink_r,
+  [[nodiscard]] bool kink_was_an_object(std::size_t k, const BeforeKink& before,
                                         float kink_z) const;
   [[nodiscard]] bool is_ground_neighbour(std::size_t k) const;
   [[nodiscard]] bool raised_over_level2(std::size_t k, float by) const;

@@ -267,19 +267,17 @@ bool ColumnProfiles::under_level_overhang(Index k, Index end) const {
 // (`last_kinked` in walk_column). Either k stands more than single_rise_m over a level-2
 // surface with ground of its own there, so it is on no lower surface either (a second fence
 // line past the first, fences_s102), or k lies on such a surface and on the ground before
-// the kink extrapolated, nearer to it than to the kink (under half the kink's rise over it):
-// that ground ran on under the kink, which stood on it (a mesh fence's low wires or a fence
-// line 0.15-0.4 m up, the next ring passing over it onto the field behind, fences_s203_tilt).
-// A kerb's pavement stays level with its kink, as terrain rising on does.
-bool ColumnProfiles::kink_was_an_object(Index k, const BeforeKink& before, float kink_r,
-                                        float kink_z) const {
+// the kink extrapolated, nearer to it than to the kink's height: that ground ran on under
+// the kink, which stood on it (a mesh fence's low wires or a fence line 0.15-0.4 m up, the
+// next ring passing over it onto the field behind, fences_s203_tilt). A kerb's pavement
+// stays level with its kink (urban_s4_hires), as a plateau does.
+bool ColumnProfiles::kink_was_an_object(Index k, const BeforeKink& before, float kink_z) const {
   if (before.profile_size <= 1) return false;
   const ColumnPoint& q = points_[k];
   if (raised_over_level2(k, p_.single_rise_m) && level2_.measured(q.index)) return true;
   const float off_ground = q.z - (before.last_z + before.gradient * (q.r - before.last_r));
-  const float kink_rise = kink_z - (before.last_z + before.gradient * (kink_r - before.last_r));
-  return std::abs(off_ground) <= p_.single_rise_m && 2.f * off_ground < kink_rise &&
-         on_measured_level2(q);
+  return std::abs(off_ground) <= p_.single_rise_m &&
+         std::abs(off_ground) < std::abs(q.z - kink_z) && on_measured_level2(q);
 }
 
 // One column outwards from the sensor. The profile is the last ground return (r, z) and
@@ -428,7 +426,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       }
       continue;
     }
-    if (last_kinked && over < -p_.drop_m && kink_was_an_object(k, before_kink, last_r, last_z)) {
+    if (last_kinked && over < -p_.drop_m && kink_was_an_object(k, before_kink, last_z)) {
       take_kink_back();
       --k;  // this return walked again (unsigned wrap-around at 0 is undone by the ++k)
       continue;

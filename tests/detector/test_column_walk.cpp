@@ -606,6 +606,15 @@ TEST_CASE("column profiles: a kink the ground runs on under, past it, was an obj
   for (int ring = 0; ring < 4; ++ring) add(kerb, ring, 0, kr[ring], kz[ring], 1);
   CHECK(label(kerb, std::vector<float>(4, 0.f), {}, true).ground ==
         std::vector<std::uint8_t>(4, 1));
+  // Real vlp16_county_fair frame 1, 157 degrees (heights from the ground under the sensor):
+  // a climb at 0.05, ring 5 kinking up 0.25 m over 1.3 m, ring 6 8 m on, level with ring 5
+  // but 0.19 m under the climb extrapolated: a plateau, nearer to the kink's height.
+  Scan plateau;
+  const float pr[] = {5.58f, 6.3f, 7.28f, 8.55f, 10.32f, 11.59f, 19.53f};
+  const float pz[] = {0.f, 0.03f, 0.07f, 0.13f, 0.22f, 0.47f, 0.46f};
+  for (int ring = 0; ring < 7; ++ring) add(plateau, ring, 0, pr[ring], pz[ring], 1);
+  CHECK(label(plateau, std::vector<float>(7, 0.f), {}, true).ground ==
+        std::vector<std::uint8_t>(7, 1));
 }
 
 TEST_CASE("column profiles: the column's first return at a foot may lie a little under the start",
