@@ -574,9 +574,9 @@ TEST_CASE("column profiles: a kink the next return falls under, onto no lower su
 
 TEST_CASE("column profiles: a kink the ground runs on under, past it, was an object",
           "[detector][profiles]") {
-  // Sim fences_s203_tilt frame 2, column 840: rings 0-1 on the field, ring 2 on a mesh
-  // fence's low wires 0.9 m past ring 1 and 0.26 m up (it bends the profile up: a kink),
-  // ring 3 through the mesh onto the field 26.6 m out, far under the profile the kink
+  // Sim fences_s203_tilt frame 2, column 840: rings 0-1 on the field, ring 2 on a fence
+  // 0.9 m past ring 1 and 0.26 m up (it bends the profile up: a kink), ring 3 over or
+  // through the fence onto the field 26.6 m out, far under the profile the kink
   // extrapolated, level with the field before the kink, on a level-2 surface with ground of
   // its own. The field ran on under the kink: the kink was the fence.
   // `kink_z`, `past_z`: heights of ring 2 and ring 3; `measured`: whether the level-2 surface
