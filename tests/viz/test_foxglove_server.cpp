@@ -285,13 +285,29 @@ TEST_CASE("a client whose replies pile up is dropped while channels are added") 
   auto stuck = subscribed_client(server, 1);
   REQUIRE(wait_until([&] { return subscriptions_total(server) == 1; }));
   const std::string payload(256 * 1024, 'p');
-  for (int i = 0; i < 150; ++i) server.publish(0, i, bytes_of(payload));  // past the socket buffers
+  constexpr int kPublished = 150;  // past the socket buffers
+  for (int i = 0; i < kPublished; ++i) server.publish(0, i, bytes_of(payload));
   const auto queued = [&] {
     const auto clients = server.stats().clients;
     return clients.size() == 1 ? clients[0].queued_bytes : 0;
   };
-  REQUIRE(wait_until([&] { return queued() > 0; }));
+  // Stalled once the server has handled every message published: each one written, dropped
+  // for the slow client or still queued (a data message queues its 13-byte header, opcode,
+  // subscription id and log time, with the payload), and the greeting's two texts written.
+  // Until then the queue still moves and its size is no baseline (1 run in about 50 failed).
+  const auto all_handled = [&] {
+    const viz::ServerStats stats = server.stats();
+    if (stats.clients.size() != 1) return false;
+    const viz::ClientStats& c = stats.clients[0];
+    const std::size_t message_bytes = 13 + payload.size();
+    const std::uint64_t handled = c.messages_sent - 2 + c.messages_dropped +
+                                  c.queued_bytes / message_bytes + stats.publish_dropped;
+    return c.messages_sent >= 2 && c.queued_bytes % message_bytes == 0 &&
+           handled == static_cast<std::uint64_t>(kPublished);
+  };
+  REQUIRE(wait_until(all_handled));
   const std::size_t stalled = queued();
+  REQUIRE(stalled > 0);
   const std::string request = R"({"op":"getParameters","parameterNames":[]})";
   stuck->send_text(request);
   REQUIRE(wait_until([&] { return queued() > stalled; }));
