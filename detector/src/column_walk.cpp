@@ -66,6 +66,24 @@ bool ColumnProfiles::bends_on(Index k, Index end, float step, float bend) const 
   return false;
 }
 
+// Whether return k, reached from the last ground return at gradient `step`, lies on the
+// level-2 surface where that surface has ground of its own, and the column's next return at
+// (at least resume_on_level2_min_m farther) runs on from it on that surface, not steep, at
+// `step` within resume_gradient_change: terrain that bent to the chord's gradient and
+// holds it, as the cells measured it. The street seen over a garage ramp's retaining wall
+// from inside the ramp, rising 0.07-0.1 on a tilted mount (garage_s5405_tilt); not a
+// fence's top that level 2 was fitted to, seen by two rings 0.8 m apart (fences_s4805_dual).
+bool ColumnProfiles::runs_on_measured_level2(Index k, Index end, float step) const {
+  const ColumnPoint& q = points_[k];
+  if (!on_measured_level2(q)) return false;
+  const Index j = next_advancing(k, end);
+  if (j == end) return false;
+  const ColumnPoint& next = points_[j];
+  const float gradient = (next.z - q.z) / (next.r - q.r);
+  return next.r - q.r >= p_.resume_on_level2_min_m && next.steep == 0 &&
+         std::abs(gradient - step) <= p_.resume_gradient_change && on_measured_level2(next);
+}
+
 // Whether return k (points [k + 1, end) beyond it) lies over the sensor, met by a rising
 // ray, on a surface rising more steeply than that ray: each of the column's next
 // rising_ray_returns returns rises from the one before at least as steeply as the ray and
@@ -333,6 +351,7 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
            std::abs(bend) <=
                p_.resume_gradient_change + p_.resume_curvature_per_m * std::max(0.f, drift) &&
            ((std::abs(points_[k].level2_h) <= p_.single_rise_m && bends_on(k, end, step, bend)) ||
+            runs_on_measured_level2(k, end, step) ||
             rises_over_its_ray(k, end, faces_only, level_run_top));
   };
   profile_size_ = 0;

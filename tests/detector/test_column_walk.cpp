@@ -617,6 +617,69 @@ TEST_CASE("column profiles: a kink the ground runs on under, past it, was an obj
         std::vector<std::uint8_t>(7, 1));
 }
 
+TEST_CASE("column profiles: past a face, ground that runs on along a measured level 2 resumes",
+          "[detector][profiles]") {
+  // Sim garage_s5405_tilt frame 1, column 293: the vehicle down a garage ramp, rings 0-5 on
+  // the ramp's retaining wall 4.3-4.4 m out (a face), rings 6 and 7 over it on the street
+  // 13.8 and 19.8 m out, 1.34 and 1.76 m up, rising 0.07-0.1 on the tilted mount, where the
+  // level-2 surface has ground of its own; ring 8 on the street 34.8 m out, where level 2
+  // only extrapolates. The street runs on from ring 6 at the chord's gradient: it resumes.
+  // `min_m`: resume_on_level2_min_m; `measured6`, `measured7`: whether level 2 has ground of
+  // its own under ring 6 and ring 7. Returns the labels of rings 6 and 7 (ring 8, the column
+  // alone, is left to the checks after the walk).
+  const auto street = [](float min_m, bool measured6, bool measured7) {
+    Scan s;
+    const float wall_z[] = {0.84f, 0.98f, 1.14f, 1.3f, 1.45f, 1.6f};
+    for (int ring = 0; ring < 6; ++ring) add(s, ring, 0, 4.35f, wall_z[ring], 2);
+    add(s, 6, 0, 13.8f, 1.34f, 1);
+    add(s, 7, 0, 19.8f, 1.76f, 1);
+    add(s, 8, 0, 34.8f, 2.83f, 1);
+    std::vector<float> level2 = s.cloud.z;  // over a level-2 surface at z = 0 ...
+    level2[6] = level2[7] = 0.f;            // ... fitted to the street under rings 6 and 7
+    std::vector<bool> measured(s.cloud.size(), true);
+    measured[6] = measured6;
+    measured[7] = measured7;
+    measured[8] = false;
+    ProfileParams p;
+    p.resume_on_level2_min_m = min_m;
+    const auto ground = label_by_cell(s, level2, {}, measured, nullptr, false, p).ground;
+    return std::vector<std::uint8_t>(ground.begin() + 6, ground.begin() + 8);
+  };
+  const float min_m = ProfileParams{}.resume_on_level2_min_m;
+  CHECK(street(min_m, true, true) == std::vector<std::uint8_t>{1, 1});
+  CHECK(street(1000.f, true, true) == std::vector<std::uint8_t>{0, 0});  // the rule off
+  // Where level 2 only extrapolates under either return, nothing vouches for the street.
+  CHECK(street(min_m, false, true) == std::vector<std::uint8_t>{0, 0});
+  CHECK(street(min_m, true, false) == std::vector<std::uint8_t>{0, 0});
+  // Sim fences_s4805_dual frame 4, column 450: rings 0-1 on a fence 5.2 m out, ring 2 on
+  // its top 6.0 m out, 0.66 m up, and ring 3 0.8 m behind it on the top, both on a level-2
+  // surface fitted to that top; ring 4 on the field 13 m out. The top runs on for 0.8 m
+  // only: no ground.
+  Scan fence;
+  const float fr[] = {5.2f, 5.2f, 6.0f, 6.8f, 13.f}, fz[] = {0.44f, 0.62f, 0.66f, 0.74f, 0.22f};
+  for (int ring = 0; ring < 5; ++ring) add(fence, ring, 0, fr[ring], fz[ring], ring < 4 ? 2 : 1);
+  const std::vector<float> fence_level2 = {0.44f, 0.62f, 0.03f, 0.02f, -0.01f};
+  const std::vector<bool> all(5, true);
+  CHECK(label_by_cell(fence, fence_level2, {}, all).ground[2] == 0);
+  ProfileParams near;
+  near.resume_on_level2_min_m = 0.3f;
+  CHECK(label_by_cell(fence, fence_level2, {}, all, nullptr, false, near).ground[2] == 1);
+  // Sim fences_s301_tilt frame 4, column 430: ring 0 on the field, rings 1-4 on a fence
+  // 6.5-7.1 m out, ring 5 past it on a second fence's top 12.5 m out, 0.47 m up, where level
+  // 2 was fitted to it; ring 6 on the field 25.9 m out, on level 2 too, but falling from
+  // ring 5 (-0.03) where the chord to it rose 0.07: no ground running on.
+  Scan second;
+  const float sr[] = {6.2f, 6.5f, 6.6f, 6.6f, 7.1f, 12.5f, 25.9f};
+  const float sz[] = {-0.01f, 0.12f, 0.37f, 0.61f, 0.77f, 0.47f, 0.02f};
+  for (int ring = 0; ring < 7; ++ring) {
+    add(second, ring, 0, sr[ring], sz[ring], ring == 0 || ring == 6 ? 1 : 2);
+  }
+  std::vector<float> second_level2 = second.cloud.z;
+  second_level2[5] = 0.01f;
+  second_level2[6] = -0.04f;
+  CHECK(label_by_cell(second, second_level2, {}, std::vector<bool>(7, true)).ground[5] == 0);
+}
+
 TEST_CASE("column profiles: the column's first return at a foot may lie a little under the start",
           "[detector][profiles]") {
   // Sim embankment_s4803 frame 4: ring 0 on the crowned road's edge 7.15 m out, 0.07 m
