@@ -52,7 +52,7 @@ struct ProfileParams {
   // on that surface at the chord's gradient (runs_on_measured_level2: the street seen over a
   // garage ramp's retaining wall, rising 0.07-0.1 on a tilted mount; at 0.3 m, a fence's
   // top 0.66 m up, which level 2 was fitted to and two rings met 0.8 m apart,
-  // fences_s4805_dual; at 6 m, garage kept four fifths of the gain).
+  // fences_s4805_dual; at 6 m, garage kept three fifths of the gain).
   float resume_curvature_per_m = 0.025f;
   float resume_on_level2_min_m = 3.f;
   // A rising ray (a return over the sensor) meets ground only where the ground rises more
