@@ -67,7 +67,7 @@ bool ColumnProfiles::bends_on(Index k, Index end, float step, float bend) const 
 }
 
 // Whether return k, reached from the last ground return at gradient `step`, lies on the
-// level-2 surface where that surface has ground of its own, and the column's next return at
+// level-2 surface where that surface has ground of its own, and the column's next return
 // (at least resume_on_level2_min_m farther) runs on from it on that surface, not steep, at
 // `step` within resume_gradient_change: terrain that bent to the chord's gradient and
 // holds it, as the cells measured it. The street seen over a garage ramp's retaining wall
