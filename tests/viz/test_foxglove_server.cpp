@@ -285,36 +285,39 @@ TEST_CASE("a client whose replies pile up is dropped while channels are added") 
   auto stuck = subscribed_client(server, 1);
   REQUIRE(wait_until([&] { return subscriptions_total(server) == 1; }));
   const std::string payload(256 * 1024, 'p');
-  constexpr int kPublished = 150;  // past the socket buffers
-  for (int i = 0; i < kPublished; ++i) server.publish(0, i, bytes_of(payload));
-  const auto queued = [&] {
-    const auto clients = server.stats().clients;
-    return clients.size() == 1 ? clients[0].queued_bytes : 0;
-  };
-  // Stalled once the server has handled every message published: each one written, dropped
-  // for the slow client or still queued (a data message queues its 13-byte header, opcode,
-  // subscription id and log time, with the payload), and the greeting's two texts written.
-  // Until then the queue still moves and its size is no baseline (1 run in about 50 failed).
-  const auto all_handled = [&] {
+  // A data message queues its 13-byte header (opcode, subscription id, log time) and the
+  // payload. The data messages the server has handled for the client: written (after the
+  // greeting's two texts), dropped for the slow client, or queued behind the one being
+  // written; and those dropped before reaching it.
+  const std::size_t data_message_bytes = 13 + payload.size();
+  const auto data_handled = [&] {
     const viz::ServerStats stats = server.stats();
-    if (stats.clients.size() != 1) return false;
+    if (stats.clients.size() != 1 || stats.clients[0].messages_sent < 2) return std::uint64_t{0};
     const viz::ClientStats& c = stats.clients[0];
-    const std::size_t message_bytes = 13 + payload.size();
-    if (c.messages_sent < 2 || c.queued_bytes % message_bytes != 0) return false;
-    const std::uint64_t handled = c.messages_sent - 2 + c.messages_dropped +
-                                  c.queued_bytes / message_bytes + stats.publish_dropped;
-    return handled == static_cast<std::uint64_t>(kPublished);
+    return c.messages_sent - 2 + c.messages_dropped + c.queued_bytes / data_message_bytes +
+           stats.publish_dropped;
   };
-  REQUIRE(wait_until(all_handled));
-  const std::size_t stalled = queued();
-  REQUIRE(stalled > 0);
+  // Published one at a time, each handled before the next, so that the socket takes all it
+  // can: 150 messages (39 MB) are far past its buffers, and the client's queue ends full
+  // behind a write that cannot finish. (Published at once, the server dropped most of them
+  // in one go, and what it kept could still fit the buffers: 1 run in about 50 failed.)
+  for (std::uint64_t i = 0; i < 150; ++i) {
+    server.publish(0, static_cast<std::int64_t>(i), bytes_of(payload));
+    REQUIRE(wait_until([&] { return data_handled() == i + 1; }));
+  }
+  // The replies' bytes in the client's queue: what it holds besides whole data messages.
+  const auto reply_bytes = [&] {
+    const auto clients = server.stats().clients;
+    return clients.size() == 1 ? clients[0].queued_bytes % data_message_bytes : 0;
+  };
+  REQUIRE(server.stats().clients[0].queued_bytes >= data_message_bytes);
   const std::string request = R"({"op":"getParameters","parameterNames":[]})";
   stuck->send_text(request);
-  REQUIRE(wait_until([&] { return queued() > stalled; }));
-  const std::size_t reply = queued() - stalled;
+  REQUIRE(wait_until([&] { return reply_bytes() > 0; }));
+  const std::size_t reply = reply_bytes();
   constexpr std::size_t kUnreadReplies = 64;  // the most a session keeps (ws_session.cpp)
   for (std::size_t i = 1; i < kUnreadReplies; ++i) stuck->send_text(request);
-  REQUIRE(wait_until([&] { return queued() == stalled + kUnreadReplies * reply; }));
+  REQUIRE(wait_until([&] { return reply_bytes() == kUnreadReplies * reply; }));
   CHECK(server.stats().clients_dropped == 0);
   viz::FrameEncoderConfig rear;
   rear.topic_prefix = "/vlpground/rear";
