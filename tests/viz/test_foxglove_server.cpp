@@ -281,7 +281,9 @@ TEST_CASE("a client whose replies pile up is dropped while channels are added") 
   // queues one more; adding channels queues an advertisement to every session, so it must
   // not hold the registry's lock then (closing takes it: the call would never return).
   Logged logged;
-  FoxgloveServer server(test_config(logged), viz::FrameEncoder().channels());
+  viz::ServerConfig config = test_config(logged);
+  config.client_unread_replies_max = 12;
+  FoxgloveServer server(config, viz::FrameEncoder().channels());
   auto stuck = subscribed_client(server, 1);
   REQUIRE(wait_until([&] { return subscriptions_total(server) == 1; }));
   const std::string payload(256 * 1024, 'p');
@@ -315,9 +317,9 @@ TEST_CASE("a client whose replies pile up is dropped while channels are added") 
   stuck->send_text(request);
   REQUIRE(wait_until([&] { return reply_bytes() > 0; }));
   const std::size_t reply = reply_bytes();
-  constexpr std::size_t kUnreadReplies = 64;  // the most a session keeps (ws_session.cpp)
-  for (std::size_t i = 1; i < kUnreadReplies; ++i) stuck->send_text(request);
-  REQUIRE(wait_until([&] { return reply_bytes() == kUnreadReplies * reply; }));
+  const std::size_t unread = config.client_unread_replies_max;
+  for (std::size_t i = 1; i < unread; ++i) stuck->send_text(request);
+  REQUIRE(wait_until([&] { return reply_bytes() == unread * reply; }));
   CHECK(server.stats().clients_dropped == 0);
   viz::FrameEncoderConfig rear;
   rear.topic_prefix = "/vlpground/rear";
@@ -333,6 +335,9 @@ TEST_CASE("bad server configuration is refused, and a busy port is a clear error
   viz::ServerConfig c;
   c.address = "localhost:80";
   CHECK_THROWS_WITH(FoxgloveServer(c, {}), Catch::Contains("not an IP address"));
+  viz::ServerConfig no_replies;
+  no_replies.client_unread_replies_max = 0;
+  CHECK_THROWS_WITH(FoxgloveServer(no_replies, {}), Catch::Contains("client_unread_replies_max"));
   Logged logged;
   FoxgloveServer first(test_config(logged), {});
   viz::ServerConfig same;

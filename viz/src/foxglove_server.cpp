@@ -28,6 +28,9 @@ void ServerConfig::validate() const {
   if (client_queue_messages < 2) throw std::invalid_argument("foxglove client_queue_messages must be >= 2");
   if (max_clients < 1) throw std::invalid_argument("foxglove max_clients must be >= 1");
   if (publish_queue_messages < 1) throw std::invalid_argument("foxglove publish_queue_messages must be >= 1");
+  if (client_unread_replies_max < 1) {
+    throw std::invalid_argument("foxglove client_unread_replies_max must be >= 1");
+  }
   if (client_message_max_bytes < 1024) {
     throw std::invalid_argument("foxglove client_message_max_bytes must be >= 1024");
   }

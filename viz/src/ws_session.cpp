@@ -12,7 +12,6 @@ namespace net = boost::asio;
 
 namespace {
 
-constexpr std::size_t kMaxPendingTexts = 64;  // replies a client has not read: it is stuck
 constexpr std::size_t kWriteFrameBytes = 64 * 1024;
 
 // Errors that only mean the peer went away; everything else is a protocol error.
@@ -146,7 +145,7 @@ void WsSession::send_data(std::size_t channel, std::int64_t log_time_ns,
 
 void WsSession::send_text(std::string text) {
   if (closed_) return;
-  if (pending_texts_ >= kMaxPendingTexts) {
+  if (pending_texts_ >= core_.config.client_unread_replies_max) {
     close("does not read its replies", true);
     return;
   }

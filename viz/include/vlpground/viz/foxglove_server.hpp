@@ -36,6 +36,9 @@ struct ServerConfig {
   std::size_t max_clients = 32;                            // more are refused (HTTP 503)
   std::size_t publish_queue_messages = 64;                 // hand-off to the server thread
   std::size_t client_message_max_bytes = std::size_t{64} << 10;  // larger requests: dropped
+  // Replies (status, advertisements, parameters) a client may leave unread: one more and
+  // it is stuck, and dropped.
+  std::size_t client_unread_replies_max = 64;
   // Where log lines go (connects, drops, errors); default: stderr. Called on the server thread.
   std::function<void(std::string_view)> log;
 
