@@ -330,6 +330,7 @@ class ColumnProfiles {
                                         float kink_z) const;
   [[nodiscard]] bool is_ground_neighbour(std::size_t k) const;
   [[nodiscard]] bool raised_over_level2(std::size_t k, float by) const;
+  [[nodiscard]] bool stands_over_measured_level2(std::size_t k) const;
   [[nodiscard]] bool rise_refuted(const Cloud& cloud, std::size_t c, std::size_t a,
                                   std::size_t b) const;
   void drop_refuted_rises(const Cloud& cloud);
@@ -500,6 +501,12 @@ inline bool ColumnProfiles::is_ground_neighbour(std::size_t k) const {
 inline bool ColumnProfiles::raised_over_level2(std::size_t k, float by) const {
   const float h = points_[k].level2_h;
   return std::isfinite(h) && h > by;
+}
+
+// Whether return k lies more than single_rise_m over the level-2 surface where that surface
+// has ground of its own (Level2Coverage::measured, looked up only for a return that high).
+inline bool ColumnProfiles::stands_over_measured_level2(std::size_t k) const {
+  return raised_over_level2(k, p_.single_rise_m) && level2_.measured(points_[k].index);
 }
 
 // Whether returns a and b lie at least `distance` apart horizontally.

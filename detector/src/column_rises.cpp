@@ -199,8 +199,7 @@ bool ColumnProfiles::top_at_column_end(Index first, Index last, bool column_firs
     before_resumed = before_resumed && q.resumed == 0;
     if (!resumed && before_resumed && ++first_returns > 2) return false;
     if (q.z - start_z_ <= over_start || q.z >= p_.sensor_z) return false;
-    // The cells' state is looked up only for a return that high.
-    high = high || (raised_over_level2(g, p_.single_rise_m) && level2_.measured(q.index));
+    high = high || stands_over_measured_level2(g);
   }
   return high;
 }

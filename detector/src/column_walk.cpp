@@ -144,7 +144,7 @@ bool ColumnProfiles::on_wall_top(float r, float z, float face_r, float face_z) c
 // that passed over the side falls to it), and two roofs rise more steeply (jam_s604, s704);
 // level roofs that pass these are short along their ring (drop_short_level_runs).
 bool ColumnProfiles::rises_on_over_sensor(Index k, Index end, float level_run_top) const {
-  if (raised_over_level2(k, p_.single_rise_m) && level2_.measured(points_[k].index)) return false;
+  if (stands_over_measured_level2(k)) return false;
   const bool under_face_top = points_[k].z < level_run_top;
   Index from = k;
   Index j = next_advancing(k, end);
@@ -292,7 +292,7 @@ bool ColumnProfiles::under_level_overhang(Index k, Index end) const {
 bool ColumnProfiles::kink_was_an_object(Index k, const BeforeKink& before, float kink_z) const {
   if (before.profile_size <= 1) return false;
   const ColumnPoint& q = points_[k];
-  if (raised_over_level2(k, p_.single_rise_m) && level2_.measured(q.index)) return true;
+  if (stands_over_measured_level2(k)) return true;
   const float off_ground = q.z - (before.last_z + before.gradient * (q.r - before.last_r));
   return std::abs(off_ground) <= p_.single_rise_m &&
          std::abs(off_ground) < std::abs(q.z - kink_z) && on_measured_level2(q);

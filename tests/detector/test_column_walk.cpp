@@ -601,18 +601,14 @@ TEST_CASE("column profiles: a kink the ground runs on under, past it, was an obj
   // farther and 0.18 m up (a kink), ring 2 on the pavement 13.1 m out, more than drop_m
   // under the profile the kink extrapolated, 0.19 m over the road extrapolated but level
   // with the kink: the pavement, not ground running on under an object.
-  Scan kerb;
-  const float kr[] = {10.7f, 11.2f, 13.1f, 15.8f}, kz[] = {-0.1f, 0.08f, 0.09f, 0.12f};
-  for (int ring = 0; ring < 4; ++ring) add(kerb, ring, 0, kr[ring], kz[ring], 1);
+  const Scan kerb = ground_column({10.7f, 11.2f, 13.1f, 15.8f}, {-0.1f, 0.08f, 0.09f, 0.12f});
   CHECK(label(kerb, std::vector<float>(4, 0.f), {}, true).ground ==
         std::vector<std::uint8_t>(4, 1));
   // Real vlp16_county_fair frame 1, 157 degrees (heights from the ground under the sensor):
   // a climb at 0.05, ring 5 kinking up 0.25 m over 1.3 m, ring 6 8 m on, level with ring 5
   // but 0.19 m under the climb extrapolated: a plateau, nearer to the kink's height.
-  Scan plateau;
-  const float pr[] = {5.58f, 6.3f, 7.28f, 8.55f, 10.32f, 11.59f, 19.53f};
-  const float pz[] = {0.f, 0.03f, 0.07f, 0.13f, 0.22f, 0.47f, 0.46f};
-  for (int ring = 0; ring < 7; ++ring) add(plateau, ring, 0, pr[ring], pz[ring], 1);
+  const Scan plateau = ground_column({5.58f, 6.3f, 7.28f, 8.55f, 10.32f, 11.59f, 19.53f},
+                                     {0.f, 0.03f, 0.07f, 0.13f, 0.22f, 0.47f, 0.46f});
   CHECK(label(plateau, std::vector<float>(7, 0.f), {}, true).ground ==
         std::vector<std::uint8_t>(7, 1));
 }
