@@ -287,11 +287,10 @@ TEST_CASE("a client whose replies pile up is dropped while channels are added") 
   auto stuck = subscribed_client(server, 1);
   REQUIRE(wait_until([&] { return subscriptions_total(server) == 1; }));
   const std::string payload(256 * 1024, 'p');
-  // A data message queues its 13-byte header (opcode, subscription id, log time) and the
-  // payload. The data messages the server has handled for the client: written (after the
-  // greeting's two texts), dropped for the slow client, or queued behind the one being
-  // written; and those dropped before reaching it.
-  const std::size_t data_message_bytes = 13 + payload.size();
+  // A data message queues its header and the payload. The data messages the server has handled for
+  // the client: written (after the greeting's two texts), dropped for the slow client, or queued
+  // behind the one being written; and those dropped before reaching it.
+  const std::size_t data_message_bytes = kDataHeaderBytes + payload.size();
   const auto data_handled = [&] {
     const viz::ServerStats stats = server.stats();
     if (stats.clients.size() != 1 || stats.clients[0].messages_sent < 2) return std::uint64_t{0};

@@ -17,6 +17,10 @@
 
 namespace vlpground::test {
 
+// The protocol's "message data" header, as a client reads it: opcode 0x01, subscription id
+// (u32 LE), log time (u64 LE).
+inline constexpr std::size_t kDataHeaderBytes = 13;
+
 struct DataMessage {
   std::uint32_t subscription = 0;
   std::uint64_t log_time_ns = 0;
@@ -53,11 +57,13 @@ class WsTestClient {
   DataMessage read_data() {
     const std::string bytes = read();
     if (ws_.got_text()) throw std::runtime_error("expected binary, got " + bytes);
-    if (bytes.size() < 13 || bytes[0] != 1) throw std::runtime_error("bad data header");
+    if (bytes.size() < kDataHeaderBytes || bytes[0] != 1) {
+      throw std::runtime_error("bad data header");
+    }
     DataMessage m;
     std::memcpy(&m.subscription, bytes.data() + 1, 4);
     std::memcpy(&m.log_time_ns, bytes.data() + 5, 8);
-    m.payload = bytes.substr(13);
+    m.payload = bytes.substr(kDataHeaderBytes);
     return m;
   }
 
