@@ -4,6 +4,7 @@
 #include "column_profile.hpp"
 
 #include <algorithm>
+#include <array>
 
 namespace vlpground::detail {
 
@@ -19,7 +20,7 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   start_z_ = p_.sensor_z > 0.f ? 0.f : p_.vehicle.at(p_.sensor_x, p_.sensor_y);
   const Index strongest = strongest_end(cloud);
   // height: over level 2 until the walk puts each return's height over its profile there
-  gather_by_column(cloud, steep, height, strongest == cloud.size());
+  gather_by_column(cloud, steep, height, strongest);
   const Index columns = column_start_.size() - 1;
   // In a local: the passes below live in other files and might, for all the compiler knows,
   // resize column_start_ (they do not), so its data would be reloaded at every column.
@@ -67,27 +68,51 @@ void ColumnProfiles::keep_past(Index strongest_end) {
   past_strongest_end_ = strongest_end;
 }
 
-// Counting sort by column into points_ (what the walk reads, gathered so that it reads
-// sequentially); the cloud is in (layer, ring, column) order, so each column's points come
-// out ring-ascending per layer, already in walking order when the cloud has one layer.
+// The cloud's points by column into points_ (what the walk reads, gathered so that it reads
+// sequentially). The cloud is in (layer, ring, column) order: its rows, one per layer and
+// ring, each hold at most one point per column, column-ascending. Each column takes the
+// next point of every row that has one there, rows in cloud order, so that its points come
+// out ring-ascending per layer (already in walking order when the cloud has one layer).
+// Read row by row, written in order: a scatter by column was a cache miss per point.
 void ColumnProfiles::gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
-                                      const std::vector<float>& level2_height,
-                                      bool one_layer) {
+                                      const std::vector<float>& level2_height, Index strongest) {
+  const RingRuns layers[2] = {point_ring_runs(cloud, 0, strongest),
+                              point_ring_runs(cloud, strongest, cloud.size())};
+  std::array<std::uint32_t, 2 * kLasers> next{}, row_end{};
+  Index rows = 0;
   int columns = 0;
-  for (Index i = 0; i < cloud.size(); ++i) columns = std::max(columns, cloud.column[i] + 1);
-  column_start_.assign(static_cast<Index>(columns) + 1, 0);
-  for (Index i = 0; i < cloud.size(); ++i) ++column_start_[cloud.column[i] + 1u];
-  for (Index c = 1; c < column_start_.size(); ++c) column_start_[c] += column_start_[c - 1];
-  cursor_.assign(column_start_.begin(), column_start_.end() - 1);
+  for (const RingRuns& runs : layers) {
+    for (int ring = 0; ring < kLasers; ++ring) {
+      const Index begin = runs[static_cast<Index>(ring)], end = runs[static_cast<Index>(ring) + 1];
+      if (begin == end) continue;
+      next[rows] = static_cast<std::uint32_t>(begin);
+      row_end[rows++] = static_cast<std::uint32_t>(end);
+      columns = std::max(columns, cloud.column[end - 1] + 1);
+    }
+  }
+  column_start_.resize(static_cast<Index>(columns) + 1);
   points_.resize(cloud.size());
   position_.resize(cloud.size());
-  for (Index i = 0; i < cloud.size(); ++i) {
-    position_[i] = cursor_[cloud.column[i]]++;
-    ColumnPoint& q = points_[position_[i]];
-    q = {cloud.range_xy[i], cloud.z[i], level2_height[i], static_cast<std::uint32_t>(i),
-         static_cast<std::uint8_t>(cloud.ring[i]), steep[i], 0};
+  // Plain pointers in locals: a store through one may alias the vectors' own pointers.
+  const std::uint16_t *const column = cloud.column.data(), *const ring = cloud.ring.data();
+  const float *const range = cloud.range_xy.data(), *const z = cloud.z.data();
+  const float* const level2 = level2_height.data();
+  std::uint32_t* const start = column_start_.data();
+  std::uint32_t* const position = position_.data();
+  ColumnPoint* const out = points_.data();
+  std::uint32_t k = 0;
+  for (int c = 0; c < columns; ++c) {
+    start[c] = k;
+    for (Index row = 0; row < rows; ++row) {
+      for (std::uint32_t i = next[row]; i != row_end[row] && column[i] == c; i = ++next[row]) {
+        position[i] = k;
+        ColumnPoint& q = out[k++];
+        q = {range[i], z[i], level2[i], i, static_cast<std::uint8_t>(ring[i]), steep[i], 0};
+      }
+    }
   }
-  if (!one_layer) merge_layers();
+  start[columns] = k;
+  if (strongest != cloud.size()) merge_layers();
 }
 
 // Each column's returns of both layers merged by ring and range with an insertion sort

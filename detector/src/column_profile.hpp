@@ -274,7 +274,7 @@ class ColumnProfiles {
     std::uint32_t road_beyond = kNoPoint;
   };
   void gather_by_column(const Cloud& cloud, const std::uint8_t* steep,
-                        const std::vector<float>& level2_height, bool one_layer);
+                        const std::vector<float>& level2_height, std::size_t strongest);
   void merge_layers();
   void note_ring_reach(std::size_t c);
   void walk_column(std::size_t column, std::size_t begin, std::size_t end,
@@ -423,10 +423,10 @@ class ColumnProfiles {
   // The ground returns walked in the current column (the start under the sensor first).
   std::array<float, 2 * kLasers + 1> profile_r_{}, profile_z_{};
   std::size_t profile_size_ = 0;
-  std::vector<std::uint32_t> column_start_, cursor_;
+  std::vector<std::uint32_t> column_start_;
   std::vector<ColumnPoint> points_;
   std::vector<std::uint32_t> position_;  // column point of each cloud point
-  std::vector<float> ring_reach_;  // farthest return by column and ring (ray_reaches)
+  std::vector<float> ring_reach_;        // farthest return by column and ring (ray_reaches)
   std::vector<std::uint8_t> shadowed_;  // ColumnPoint::shadowed by cloud point
   std::vector<std::uint32_t> refuted_;  // column points to drop (drop_refuted_rises)
   std::vector<std::uint8_t> stands_out_;     // in a run standing out (remove_silhouettes)
