@@ -90,6 +90,15 @@ struct ProfileParams {
   // street between cars parked beside a ramp was lost: garage_s604 20 Hz 0.9813 -> 0.9782;
   // roofs past a car's side in a jam ran 0.5-3 m along their ring.)
   float level_run_min_m = 3.f;
+  // Past a face, a return under the sensor that stands over a measured level 2 is still
+  // taken where the column's next two returns go on from it in one straight line: the
+  // gradients from it to the next and from there to the one after differ by at most
+  // in_line_gradient_change, over at least in_line_span_m (runs_on_in_line). The street seen
+  // over a garage ramp's retaining wall, where level 2 follows the ramp's ground 1.6 m under
+  // it (garage_s501_hires). (At 0.008, obstacle returns past a car's side 0.008 apart,
+  // jam_s303_5hz: one more high obstacle as ground.)
+  float in_line_gradient_change = 0.005f;
+  float in_line_span_m = 10.f;
   // Not under an overhang: the column's next (higher) ring met something more than this
   // nearer and over the return's ray there (a tree crown on a bank's top met from below),
   // or a later ring met something that much nearer, over the ray and level with the
@@ -287,7 +296,9 @@ class ColumnProfiles {
   static constexpr float kNoLevelRun = -std::numeric_limits<float>::infinity();
   [[nodiscard]] bool rises_over_its_ray(std::size_t k, std::size_t end, bool past_faces_only,
                                         float level_run_top = kNoLevelRun) const;
-  [[nodiscard]] bool rises_on_over_sensor(std::size_t k, std::size_t end, float level_run_top) const;
+  [[nodiscard]] bool rises_on_over_sensor(std::size_t k, std::size_t end,
+                                          float level_run_top) const;
+  [[nodiscard]] bool runs_on_in_line(std::size_t k, std::size_t end) const;
   [[nodiscard]] std::size_t next_advancing(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool on_wall_top(float r, float z, float face_r, float face_z) const;
   [[nodiscard]] bool climbs_on_level2(std::size_t k, std::size_t end, float step) const;

@@ -676,6 +676,52 @@ TEST_CASE("column profiles: past a face, ground that runs on along a measured le
   CHECK(label_by_cell(second, second_level2, {}, std::vector<bool>(7, true)).ground[5] == 0);
 }
 
+TEST_CASE(
+    "column profiles: past a face, ground in one straight line over a measured level 2 resumes",
+    "[detector][profiles]") {
+  // Sim garage_s501_hires frame 4, column 262: the vehicle down a garage ramp, rings 0-6 on
+  // the ramp's retaining wall 4 m out (a face up to 1.64 m), rings 7-9 over it on the street
+  // 17.8, 25.5 and 45.2 m out, 1.57, 2.08 and 3.36 m up, rising 0.066 and 0.065 on the
+  // pitched vehicle. Level 2 follows the ramp at z = 0: it has ground of its own under ring 7,
+  // none under rings 8 and 9. `ring9_z`: ring 9's height; `p`: the parameters. Returns the
+  // labels of rings 7-9.
+  const auto street = [](float ring9_z, const ProfileParams& p, float ring8_r = 25.5f,
+                         float ring9_r = 45.2f) {
+    Scan s;
+    const float wall_z[] = {1.09f, 1.19f, 1.28f, 1.37f, 1.46f, 1.55f, 1.64f};
+    for (int ring = 0; ring < 7; ++ring) add(s, ring, 0, 4.f, wall_z[ring], 2);
+    add(s, 7, 0, 17.8f, 1.57f, 1);
+    add(s, 8, 0, ring8_r, 1.57f + 0.066f * (ring8_r - 17.8f), 1);
+    add(s, 9, 0, ring9_r, ring9_z, 1);
+    std::vector<bool> measured(s.cloud.size(), true);
+    measured[8] = measured[9] = false;
+    const auto ground = label_by_cell(s, s.cloud.z, {}, measured, nullptr, false, p).ground;
+    return std::vector<std::uint8_t>(ground.begin() + 7, ground.end());
+  };
+  const ProfileParams defaults;
+  CHECK(street(3.36f, defaults) == std::vector<std::uint8_t>{1, 1, 1});
+  ProfileParams off;
+  off.in_line_span_m = 1000.f;
+  CHECK(street(3.36f, off) == std::vector<std::uint8_t>{0, 0, 0});  // the rule off
+  // Ring 9 off the line (rising 0.09 from ring 8): no surface vouches for ring 7.
+  CHECK(street(3.9f, defaults) == std::vector<std::uint8_t>{0, 0, 0});
+  // In line over less than in_line_span_m (ring 9 24.8 m out): too short to tell.
+  CHECK(street(1.57f + 0.066f * 7.f, defaults, 20.8f, 24.8f) == std::vector<std::uint8_t>{0, 0, 0});
+  // Sim jam_s604_strongest frame 0, column 471: rings 0-5 on a car's side 5.7 m out (up to
+  // 1.44 m), then obstacle returns 18.4, 27 and 51 m out, 0.97, 1.46 and 2.82 m up, in line
+  // by chance (0.057 both), and 90 m out 6.65 m up, over a measured road. Under the car
+  // side's top, rings 6 and 7 would be level ground running on under the sensor: there the
+  // line does not count.
+  Scan jam;
+  const float side_z[] = {0.42f, 0.63f, 0.83f, 1.04f, 1.24f, 1.44f};
+  for (int ring = 0; ring < 6; ++ring) add(jam, ring, 0, 5.7f, side_z[ring], 2);
+  const float jr[] = {18.4f, 27.f, 51.f, 90.f}, jz[] = {0.97f, 1.46f, 2.82f, 6.65f};
+  for (int n = 0; n < 4; ++n) add(jam, 6 + n, 0, jr[n], jz[n], 2);
+  const auto jam_ground = label_by_cell(jam, jam.cloud.z, {}, std::vector<bool>(10, true)).ground;
+  CHECK(std::vector<std::uint8_t>(jam_ground.begin() + 6, jam_ground.begin() + 8) ==
+        std::vector<std::uint8_t>{0, 0});
+}
+
 TEST_CASE("column profiles: the column's first return at a foot may lie a little under the start",
           "[detector][profiles]") {
   // Sim embankment_s4803 frame 4: ring 0 on the crowned road's edge 7.15 m out, 0.07 m
