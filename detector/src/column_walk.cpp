@@ -129,10 +129,11 @@ bool ColumnProfiles::on_wall_top(float r, float z, float face_r, float face_z) c
 // level 2 decides) to over the sensor, where it rises over its ray (rises_over_its_ray,
 // past faces alone), bending there by no more than gradient_step, and no later return
 // overhangs j (under_overhang), and k does not stand over the level-2 surface where that has
-// ground of its own. The street seen over a retaining wall from deep in a ramp, its near
-// part lower than the sensor (garage), where level 2 follows the ramp and has no ground of
-// its own; not a car's roof seen over a van's side on a measured road, with a truck's box
-// or a facade's upper floors beyond it (jam).
+// ground of its own (unless, on the first try, the column's next two returns run on from k
+// in one straight line: runs_on_in_line). The street seen over a retaining wall from deep
+// in a ramp, its near part lower than the sensor (garage), where level 2 follows the ramp
+// and has no ground of its own; not a car's roof seen over a van's side on a measured road,
+// with a truck's box or a facade's upper floors beyond it (jam).
 // Where k lies under `level_run_top` (the walk's second try, when nothing else took k,
 // passes the top of the face in front: the last face's highest return; by default no
 // height is), the level ground may also run on under the sensor (each return on rising less than
@@ -176,10 +177,10 @@ bool ColumnProfiles::rises_on_over_sensor(Index k, Index end, float level_run_to
 // Whether the column's next two returns beyond return k (points [k + 1, end)), neither
 // steep, go on from k in one straight line: the gradient from k to the next and from there
 // to the one after differ by at most in_line_gradient_change, the last at least
-// in_line_span_m beyond k. Three returns of three rings in line over 10 m or more are one
-// surface: the street seen over a garage ramp's retaining wall from inside the ramp, 1.6 m
-// over the level-2 surface that follows the ramp's ground (garage_s501_hires frame 4,
-// column 262: 17.8, 25.5 and 45.2 m out, rising 0.066 and 0.065 on the pitched vehicle).
+// in_line_span_m beyond k. Three returns in one line over 10 m or more are one surface:
+// the street seen over a garage ramp's retaining wall from inside the ramp, 1.6 m over the
+// level-2 surface that follows the ramp's ground (garage_s501_hires frame 4, column 262:
+// 17.8, 25.5 and 45.2 m out, rising 0.066 and 0.065 on the pitched vehicle).
 // rises_on_over_sensor asks it only on the walk's first try: taken as level ground running
 // on under a face's top, obstacle returns past a car's side lay in line by chance (jam_s604
 // frame 0, column 471: 18.4, 27 and 51 m out, 0.97, 1.46 and 2.82 m up, 0.0003 apart).
