@@ -340,6 +340,7 @@ class ColumnProfiles {
   [[nodiscard]] bool kink_was_an_object(std::size_t k, const BeforeKink& before,
                                         float kink_z) const;
   [[nodiscard]] bool is_ground_neighbour(std::size_t k) const;
+  [[nodiscard]] static float gradient_between(const ColumnPoint& from, const ColumnPoint& to);
   [[nodiscard]] bool raised_over_level2(std::size_t k, float by) const;
   [[nodiscard]] bool stands_over_measured_level2(std::size_t k) const;
   [[nodiscard]] bool rise_refuted(const Cloud& cloud, std::size_t c, std::size_t a,
@@ -506,6 +507,11 @@ class ColumnProfiles {
 // surface taken for the foot of a wall.
 inline bool ColumnProfiles::is_ground_neighbour(std::size_t k) const {
   return points_[k].ground != 0 && points_[k].steep == 0;
+}
+
+// The gradient (rise per metre of range) along the column from return `from` to `to`.
+inline float ColumnProfiles::gradient_between(const ColumnPoint& from, const ColumnPoint& to) {
+  return (to.z - from.z) / (to.r - from.r);
 }
 
 // Whether return k lies more than `by` over the level-2 surface.

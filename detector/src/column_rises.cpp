@@ -148,7 +148,7 @@ bool ColumnProfiles::crest_top(Index first, Index last, Index after, float befor
   const bool level2_falls_away = from_start && over_fallen_cells(a);
   if (!far_side_falls && !level2_falls_away) return false;
   const float chord = (a.z - before_z) / (a.r - before_r);
-  const float along = (b.z - a.z) / (b.r - a.r);
+  const float along = gradient_between(a, b);
   return std::abs(along - chord) <= p_.resume_gradient_change;
 }
 

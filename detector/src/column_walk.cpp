@@ -55,15 +55,12 @@ inline bool ColumnProfiles::ray_reaches(Index column, int ring, float r) const {
 // when negative) crossed terrain curving up (down), which goes on rising at least as
 // steeply as the chord (no more steeply). A steep next return, or none, does not.
 bool ColumnProfiles::bends_on(Index k, Index end, float step, float bend) const {
-  const ColumnPoint& q = points_[k];
-  for (Index j = k + 1; j < end; ++j) {
-    const ColumnPoint& next = points_[j];
-    if (next.r < q.r + p_.min_advance_m) continue;
-    const float gradient = (next.z - q.z) / (next.r - q.r);
-    if (next.steep != 0 || std::abs(gradient) > p_.max_gradient) return false;
-    return bend > 0.f ? gradient >= step : gradient <= step;
-  }
-  return false;
+  const Index j = next_advancing(k, end);
+  if (j == end) return false;
+  const ColumnPoint& next = points_[j];
+  const float gradient = gradient_between(points_[k], next);
+  if (next.steep != 0 || std::abs(gradient) > p_.max_gradient) return false;
+  return bend > 0.f ? gradient >= step : gradient <= step;
 }
 
 // Whether return k, reached from the last ground return at gradient `step`, lies on the
@@ -79,7 +76,7 @@ bool ColumnProfiles::runs_on_measured_level2(Index k, Index end, float step) con
   const Index j = next_advancing(k, end);
   if (j == end) return false;
   const ColumnPoint& next = points_[j];
-  const float gradient = (next.z - q.z) / (next.r - q.r);
+  const float gradient = gradient_between(q, next);
   return next.r - q.r >= p_.resume_on_level2_min_m && next.steep == 0 &&
          std::abs(gradient - step) <= p_.resume_gradient_change && on_measured_level2(next);
 }
@@ -153,13 +150,13 @@ bool ColumnProfiles::rises_on_over_sensor(Index k, Index end, float level_run_to
   if (j == end) return false;
   for (;;) {
     const ColumnPoint &q = points_[from], &on = points_[j];
-    const float gradient = (on.z - q.z) / (on.r - q.r);
+    const float gradient = gradient_between(q, on);
     if (on.steep != 0 || gradient < 0.f || gradient >= p_.shoulder_gradient) return false;
     for (Index m = j + 1; m < end; ++m)
       if (under_overhang(on, points_[m])) return false;
     const Index beyond = next_advancing(j, end);
     if (beyond != end) {
-      const float bend = (points_[beyond].z - on.z) / (points_[beyond].r - on.r) - gradient;
+      const float bend = gradient_between(on, points_[beyond]) - gradient;
       if (std::abs(bend) > p_.gradient_step) return false;
     }
     // Over the sensor (a run from under the face's top may also end at the column's last
@@ -191,9 +188,8 @@ bool ColumnProfiles::runs_on_in_line(Index k, Index end) const {
   if (b == end) return false;
   const ColumnPoint &q = points_[k], &next = points_[j], &last = points_[b];
   if (next.steep != 0 || last.steep != 0 || last.r - q.r < p_.in_line_span_m) return false;
-  const float to_next = (next.z - q.z) / (next.r - q.r);
-  const float beyond = (last.z - next.z) / (last.r - next.r);
-  return std::abs(beyond - to_next) <= p_.in_line_gradient_change;
+  return std::abs(gradient_between(next, last) - gradient_between(q, next)) <=
+         p_.in_line_gradient_change;
 }
 
 // The column's first return after k at least min_advance_m farther than k (end: none).
@@ -231,7 +227,7 @@ bool ColumnProfiles::climbs_on_level2(Index k, Index end, float step) const {
     const Index j = next_advancing(from, end);
     if (j == end) return false;
     const ColumnPoint &a = points_[from], &next = points_[j];
-    const float gradient = (next.z - a.z) / (next.r - a.r);
+    const float gradient = gradient_between(a, next);
     if (next.steep != 0 || gradient > p_.max_gradient || gradient < step - p_.gradient_step ||
         !on_measured_level2(next)) {
       return false;
