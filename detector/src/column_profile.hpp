@@ -105,6 +105,19 @@ struct ProfileParams {
   // return, within single_rise_m: a roof or a canopy whose far edge the return met, seen
   // from below by the rings over it (under_level_overhang).
   float overhang_m = 1.f;
+  // Not the far edge of an underside: a return over the sensor (met by a rising ray), taken
+  // past an obstacle, that a later ring's return overhangs (under_overhang) from at most
+  // underside_reach_m nearer, level with it within underside_level_m, with no lower ring's
+  // return within underside_face_m of that distance under it (a face met by the rings
+  // below, not an underside): a tree crown's underside 2.55 m over a bank's top, met by two
+  // rings at a height that the bank's slope extrapolated reaches there (bank_s5603,
+  // meets_underside_edge). (Level within 0.2 m, 4 bank captures lost ground; 0.3 m, 13; with
+  // no reach limit, 72, ground level with a canopy over the vehicle 27 m nearer; with faces
+  // counted as undersides or not only past an obstacle, hundreds: ground past a wall's gap,
+  // past crowns on a bowl's rising side.)
+  float underside_level_m = 0.1f;
+  float underside_reach_m = 5.f;
+  float underside_face_m = 0.3f;
   // Not past a hidden top: the column's last return, more than this times as far as the
   // ground return before it, where that ground lay over the sensor after a climb
   // (past_hidden_top), unless it lies within plane_band_m of the level-2 surface where that
@@ -317,6 +330,8 @@ class ColumnProfiles {
     return kNone;
   }
   [[nodiscard]] bool under_level_overhang(std::size_t k, std::size_t end) const;
+  [[nodiscard]] bool meets_underside_edge(std::size_t begin, std::size_t k, std::size_t end) const;
+  [[nodiscard]] bool face_under(std::size_t begin, std::size_t j) const;
   [[nodiscard]] bool past_hidden_top(float r, float last_r, float last_z) const;
   [[nodiscard]] bool climb_levelled_off(float gradient, float step) const;
   [[nodiscard]] bool climb_is_guess(float gradient, float advance) const;

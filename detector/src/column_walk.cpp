@@ -298,6 +298,37 @@ bool ColumnProfiles::under_level_overhang(Index k, Index end) const {
   return false;
 }
 
+// Whether return k, over the sensor, met the far edge of an underside that a later return of
+// the column (a higher ring) met from below, nearer by overhang_m to underside_reach_m and
+// level with k within underside_level_m. That return is on an underside, not a face, where
+// no lower ring met its distance (within underside_face_m) under it: a face's side met by a
+// higher ring level with ground past it lies over the lower rings' returns on that face.
+bool ColumnProfiles::meets_underside_edge(Index begin, Index k, Index end) const {
+  const ColumnPoint& q = points_[k];
+  if (q.z <= p_.sensor_z) return false;
+  for (Index j = k + 1; j < end; ++j) {
+    const ColumnPoint& above = points_[j];
+    if (std::abs(above.z - q.z) < p_.underside_level_m && q.r - above.r <= p_.underside_reach_m &&
+        under_overhang(q, above) && !face_under(begin, j)) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// Whether a lower ring than return j's met a face under j: a return within underside_face_m
+// of j's distance and lower.
+bool ColumnProfiles::face_under(Index begin, Index j) const {
+  const ColumnPoint& top = points_[j];
+  for (Index i = begin; i < j; ++i) {
+    const ColumnPoint& w = points_[i];
+    if (w.ring < top.ring && std::abs(w.r - top.r) < p_.underside_face_m && w.z < top.z) {
+      return true;
+    }
+  }
+  return false;
+}
+
 // Whether the kink before return k (a return more than drop_m under the profile that kink
 // extrapolated) was an object rather than a bend of the terrain. Only with ground of the
 // column before the kink to go back to (not only the start's guess: the street over a ramp's
@@ -535,6 +566,11 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
         accept =
             !rises_off_bound(r, z, gradient, deepest_obstacle(from, k, last_r, last_z, gradient));
       }
+    }
+    // Past an obstacle, not the far edge of an underside over the sensor: a crown or a roof
+    // met from below by the rings over it.
+    if (accept && blocked && over >= -p_.drop_m && meets_underside_edge(begin, k, end)) {
+      accept = false;
     }
     // Past an obstacle, a return on a level-1 plane that explains its cell is ground too.
     if (!accept && blocked && std::abs(plane_height[q.index]) <= p_.plane_band_m) accept = true;

@@ -790,6 +790,54 @@ TEST_CASE("column profiles: a shoulder level with a roof the rings over it met f
   CHECK(ring12(8.f, true) == 1);
 }
 
+TEST_CASE("column profiles: past a face, a return level with an underside nearer over it is none",
+          "[detector][profiles]") {
+  // Sim bank_s5603_5hz frame 3, column 2720: rings 0-8 climb a bank at about 0.39 to 11.7 m;
+  // rings 9-11 meet a face 10.6 m out (2.5-3.24 m up). Past it ring 12 meets, 18 m out and
+  // 4.79 m up, the far edge of a tree crown's underside 2.55 m over the bank's top, on the
+  // bank's slope extrapolated from ring 8 (0.42). Ring 13 meets that underside 14.7 m out,
+  // level with ring 12, over its ray; rings 14 and 15 a face of the crown 14.1 m out.
+  // `ring13_r`, `ring13_z`: ring 13's return; `face_under_13`: ring 11 meets a face under
+  // ring 13 instead of the near one; `face`: rings 9-11 meet that face, else the bank going on
+  // at 0.39. Returns ring 12's label.
+  const auto ring12 = [](float ring13_r, float ring13_z, bool face_under_13, bool face,
+                         const ProfileParams& p) {
+    Scan s;
+    const float r[] = {6.6f, 7.0f, 7.5f, 7.9f, 8.5f, 9.2f, 9.9f, 10.7f, 11.7f};
+    const float z[] = {0.19f, 0.34f, 0.5f, 0.7f, 0.91f, 1.15f, 1.43f, 1.76f, 2.15f};
+    for (int ring = 0; ring < 9; ++ring) add(s, ring, 0, r[ring], z[ring], 1);
+    if (face) {
+      add(s, 9, 0, 10.6f, 2.5f, 2);
+      add(s, 10, 0, 10.6f, 2.87f, 2);
+      add(s, 11, 0, face_under_13 ? ring13_r : 10.6f, face_under_13 ? 4.3f : 3.24f, 2);
+    } else {
+      int ring = 9;
+      for (const float bank_r : {12.8f, 14.1f, 15.7f})
+        add(s, ring++, 0, bank_r, 2.15f + 0.39f * (bank_r - 11.7f), 1);
+    }
+    add(s, 12, 0, 18.f, 4.79f, 2);
+    add(s, 13, 0, ring13_r, ring13_z, 2);
+    add(s, 14, 0, 14.1f, 5.19f, 2);
+    add(s, 15, 0, 14.1f, 5.71f, 2);
+    return label_by_cell(s, s.cloud.z, {}, std::vector<bool>(s.cloud.size(), false), nullptr, false,
+                         p)
+        .ground[12];
+  };
+  const ProfileParams defaults;
+  CHECK(ring12(14.7f, 4.79f, false, true, defaults) == 0);
+  ProfileParams off;
+  off.underside_level_m = 0.f;
+  CHECK(ring12(14.7f, 4.79f, false, true, off) == 1);  // the rule off
+  // Ring 13 0.15 m higher: no underside level with ring 12 (a crown over ground past it).
+  CHECK(ring12(14.7f, 4.94f, false, true, defaults) == 1);
+  // Ring 13 more than underside_reach_m nearer: too far from ring 12 to be one underside.
+  CHECK(ring12(12.9f, 4.79f, false, true, defaults) == 1);
+  // A lower ring met a face under ring 13: a face's side, not an underside.
+  CHECK(ring12(14.7f, 4.79f, true, true, defaults) == 1);
+  // Not past an obstacle: ring 12 goes on from the bank's ground, which runs on under it.
+  CHECK(ring12(14.7f, 4.79f, false, false, defaults) == 1);
+}
+
 TEST_CASE("column profiles: the street over a ramp's wall, past its top or from under the sensor",
           "[detector][profiles]") {
   // Deep in a ramp (sim garage_s501, Puck Hi-Res, frame 4): rings 0-6 meet the retaining
