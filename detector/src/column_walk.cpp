@@ -566,11 +566,9 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
         accept =
             !rises_off_bound(r, z, gradient, deepest_obstacle(from, k, last_r, last_z, gradient));
       }
-    }
-    // Past an obstacle, not the far edge of an underside over the sensor: a crown or a roof
-    // met from below by the rings over it.
-    if (accept && blocked && over >= -p_.drop_m && meets_underside_edge(begin, k, end)) {
-      accept = false;
+      // Past an obstacle, not the far edge of an underside over the sensor: a crown or a
+      // roof met from below by the rings over it.
+      if (accept && blocked && meets_underside_edge(begin, k, end)) accept = false;
     }
     // Past an obstacle, a return on a level-1 plane that explains its cell is ground too.
     if (!accept && blocked && std::abs(plane_height[q.index]) <= p_.plane_band_m) accept = true;
