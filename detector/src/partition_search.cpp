@@ -165,28 +165,37 @@ SearchResult search_streaming(const SearchInput& in, std::vector<Acc>& scratch) 
 
   SearchResult result;
   std::array<bool, 4> ground{};
+  // Row r - 1 without an occupied bin: every centre of row r has the segment sums of the
+  // centre above it, considered before it, which a tie never displaces; the row's centres
+  // are skipped (the rows past the scene's extent, about a third of the grid's rows in the
+  // shared captures).
+  bool previous_row_empty = false;
   for (int r = 0; r < b; ++r) {
-    std::fill_n(acc, stride, 0);
-    std::fill_n(acc_bottom, stride, 0);
-    // Two centres per pass over M, (c, r) then (c + 1, r); past the last column (odd B) the
-    // second is a phantom stepping over column c again, never considered.
-    for (int c = 0; c < b; c += 2) {
-      const Index c1 = idx(std::min(c + 1, b - 1));
-      const Acc* p0 = col_prefix + idx(c) * stride;
-      const Acc* t0 = col_total + idx(c) * stride;
-      const Acc* p1 = col_prefix + c1 * stride;
-      const Acc* t1 = col_total + c1 * stride;
-      const auto [a, n] =
-          step_two_centres(acc, acc_bottom, row_total, total, p0, t0, p1, t1, stride);
-      const Sums<Acc> sums{acc, acc_bottom, row_total, total, m_count};
-      if (consider_centre(in, {a[0], a[1], a[2], a[3]}, c, r, result, ground))
-        find_planes(sums, a, ground, {p1, t1, p0, t0}, result);
-      if (c + 1 < b && consider_centre(in, {n[0], n[1], n[2], n[3]}, c + 1, r, result, ground))
-        find_planes(sums, n, ground, {p1, t1, nullptr, nullptr}, result);
+    if (!previous_row_empty) {
+      std::fill_n(acc, stride, 0);
+      std::fill_n(acc_bottom, stride, 0);
+      // Two centres per pass over M, (c, r) then (c + 1, r); past the last column (odd B)
+      // the second is a phantom stepping over column c again, never considered.
+      for (int c = 0; c < b; c += 2) {
+        const Index c1 = idx(std::min(c + 1, b - 1));
+        const Acc* p0 = col_prefix + idx(c) * stride;
+        const Acc* t0 = col_total + idx(c) * stride;
+        const Acc* p1 = col_prefix + c1 * stride;
+        const Acc* t1 = col_total + c1 * stride;
+        const auto [a, n] =
+            step_two_centres(acc, acc_bottom, row_total, total, p0, t0, p1, t1, stride);
+        const Sums<Acc> sums{acc, acc_bottom, row_total, total, m_count};
+        if (consider_centre(in, {a[0], a[1], a[2], a[3]}, c, r, result, ground))
+          find_planes(sums, a, ground, {p1, t1, p0, t0}, result);
+        if (c + 1 < b && consider_centre(in, {n[0], n[1], n[2], n[3]}, c + 1, r, result, ground))
+          find_planes(sums, n, ground, {p1, t1, nullptr, nullptr}, result);
+      }
     }
+    previous_row_empty = true;
     for (int c = 0; c < b; ++c) {
       const std::int32_t slot = in.bin_slot[idx(r * b + c)];
       if (slot < 0) continue;
+      previous_row_empty = false;
       const std::int32_t* s = in.slot_scores + idx(slot) * m_count;
       Acc* p = col_prefix + idx(c) * stride;
       for (Index m = 0; m < m_count; ++m) {
