@@ -540,18 +540,18 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // Before any ground return of the column the profile's gradient is only the start's
       // guess: resuming on it needs the level-2 surface not to disagree (a car roof seen
       // past a car side next to the sensor, in a jam), or ground rising over the sensor.
+      // (the tests in order of cost, each asked only where the ones before leave it open)
       const auto takes = [&](float level_run_top) {
-        const bool on_guess = profile_size_ > 1 || !(std::abs(q.level2_h) > p_.single_rise_m) ||
-                              rises_over_its_ray(k, end, faces_only, level_run_top);
-        const bool resumes =
-            blocked &&
-            (std::abs(step - gradient) <= p_.resume_gradient_change
-                 ? on_guess
-                 : resumes_bent(k, step, 0.5f * (last_r + r) - gradient_r, level_run_top));
-        return std::abs(step) <= p_.max_gradient &&
-               (over <= rise || resumes ||
-                (!blocked && (climbs_on_level2(k, end, step) ||
-                              steepens_over_its_ray(k, end, last_r, last_z, step - gradient))));
+        if (!(std::abs(step) <= p_.max_gradient)) return false;
+        if (over <= rise) return true;
+        if (!blocked) {
+          return climbs_on_level2(k, end, step) ||
+                 steepens_over_its_ray(k, end, last_r, last_z, step - gradient);
+        }
+        if (!(std::abs(step - gradient) <= p_.resume_gradient_change))
+          return resumes_bent(k, step, 0.5f * (last_r + r) - gradient_r, level_run_top);
+        return profile_size_ > 1 || !(std::abs(q.level2_h) > p_.single_rise_m) ||
+               rises_over_its_ray(k, end, faces_only, level_run_top);
       };
       accept = takes(kNoLevelRun);
       if (!accept && blocked && faces_only && z <= p_.sensor_z && face_r >= 0.f) {
