@@ -78,6 +78,10 @@ struct ProfileParams {
   // (Taken as level, a gentler rise lost a valley's far side behind a convex shoulder,
   // hills_s702; keeping any rise at all let a fence line's gentle chord reach a wall's foot.)
   float keep_gradient_rise = 0.05f;
+  // Past a descent, a return over the rise allowance from the descent extrapolated but within
+  // it from the last ground return's level, the column's next return rising on at least as
+  // steeply, is a valley's far side past a floor between two rings (rises_past_valley_floor).
+  bool valley_far_side = true;
   // A return rising at least this from the last ground return (a hill's shoulder) is
   // ground only where it is not under an overhang (overhang_m) and not past a hidden top
   // (hidden_top_range_ratio).
@@ -315,6 +319,8 @@ class ColumnProfiles {
   [[nodiscard]] std::size_t next_advancing(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool on_wall_top(float r, float z, float face_r, float face_z) const;
   [[nodiscard]] bool climbs_on_level2(std::size_t k, std::size_t end, float step) const;
+  [[nodiscard]] bool rises_past_valley_floor(std::size_t k, std::size_t end, float gradient,
+                                             float step, bool within_rise) const;
   [[nodiscard]] bool steepens_over_its_ray(std::size_t k, std::size_t end, float last_r,
                                            float last_z, float bend) const;
   [[nodiscard]] bool on_measured_level2(const ColumnPoint& q) const;

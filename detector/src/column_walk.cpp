@@ -237,6 +237,19 @@ bool ColumnProfiles::climbs_on_level2(Index k, Index end, float step) const {
   return true;
 }
 
+// Whether return k, over the walk's rise allowance from the descending profile extrapolated
+// under it but within it from the last ground return's own level (`within_rise`; only a
+// descent tells them apart), is a valley's far side rising past a floor that lies between
+// the two rings: the column's next return goes on rising at least as steeply as the chord
+// to k (bends_on, `step` from the last ground return). Sim hills_s605 frame 2, column 941:
+// the column falls at 0.105-0.126 to ring 3, 24 m out and 1.9 m down; ring 4, 3.2 m
+// farther, stands 0.46 m over ring 3 but 0.86 m over the descent extrapolated (0.64 m
+// allowed); ring 5 rises on at 0.18. Off with valley_far_side.
+bool ColumnProfiles::rises_past_valley_floor(Index k, Index end, float gradient, float step,
+                                             bool within_rise) const {
+  return p_.valley_far_side && within_rise && bends_on(k, end, step, step - gradient);
+}
+
 // Whether return k, rising from the column's last ground return (last_r, last_z) by more
 // than the profile may bend up at one return, is the terrain steepening over the sensor
 // where level 2 lags: the walk has followed the column over ground returns of its own (not
@@ -546,7 +559,8 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
         if (over <= rise) return true;
         if (!blocked) {
           return climbs_on_level2(k, end, step) ||
-                 steepens_over_its_ray(k, end, last_r, last_z, step - gradient);
+                 steepens_over_its_ray(k, end, last_r, last_z, step - gradient) ||
+                 rises_past_valley_floor(k, end, gradient, step, z - last_z <= rise);
         }
         if (!(std::abs(step - gradient) <= p_.resume_gradient_change))
           return resumes_bent(k, step, 0.5f * (last_r + r) - gradient_r, level_run_top);

@@ -1061,6 +1061,33 @@ TEST_CASE("column profiles: a valley's far side rising back under the vehicle's 
   CHECK(labels[7] == 0);
 }
 
+TEST_CASE("column profiles: a valley's far side past a floor between two rings is ground",
+          "[detector][profiles]") {
+  // Sim hills_s605 frame 2, column 941: the column falls at 0.105-0.126 to ring 3 (24 m out,
+  // 1.9 m down); ring 4, 3.2 m farther, stands 0.46 m over ring 3 but 0.86 m over the descent
+  // extrapolated, more than the walk allows (0.64 m); ring 5 rises on at 0.18. Level 2 has
+  // no ground of its own here. Returns ring 4's label.
+  const auto ring4 = [](float ring4_z, float ring5_z, const ProfileParams& p) {
+    Scan s;
+    const float r[] = {6.83f, 8.1f, 11.38f, 24.02f, 27.25f, 30.8f};
+    const float z[] = {0.1f, 0.06f, -0.29f, -1.88f, ring4_z, ring5_z};
+    for (int ring = 0; ring < 6; ++ring) add(s, ring, 0, r[ring], z[ring], 1);
+    return label_by_cell(s, {}, {}, std::vector<bool>(s.cloud.size(), false), nullptr, false, p)
+        .ground[4];
+  };
+  const ProfileParams defaults;
+  CHECK(ring4(-1.42f, -0.77f, defaults) == 1);
+  ProfileParams off;
+  off.valley_far_side = false;
+  CHECK(ring4(-1.42f, -0.77f, off) == 0);  // the rule off
+  // Ring 5 rising on less steeply than the chord to ring 4 (0.08 against 0.14): a low top,
+  // the ground going on beyond it.
+  CHECK(ring4(-1.42f, -1.14f, defaults) == 0);
+  // Ring 4 0.7 m over ring 3, more than the allowance from ring 3's own level too, ring 5
+  // rising on at 0.25.
+  CHECK(ring4(-1.18f, -0.29f, defaults) == 0);
+}
+
 TEST_CASE("column profiles: past a hidden top, a return on a measured level-2 surface is ground",
           "[detector][profiles]") {
   // Sim hills_s702 (frame 4, column 600): the column climbs a valley's side to 2.7 m (over
