@@ -41,6 +41,33 @@ Grid random_grid(int bins, int m, std::uint64_t seed, int low = 3) {
   return g;
 }
 
+// search_partition against reference_search_partition on grid g, both T rules, T in {0, 5,
+// 40}, both lane widths (0: unknown bound, 32-bit lanes; else a true bound, 16-bit lanes);
+// returns how many comparisons found a centre.
+int check_against_reference(const Grid& g, SearchScratch& scratch) {
+  int checked = 0;
+  for (bool allow_empty : {true, false}) {
+    for (int t : {0, 5, 40}) {
+      SearchInput in = g.input(t, allow_empty);
+      const SearchResult ref = reference_search_partition(in);
+      for (std::int64_t bound : {std::int64_t{0}, std::int64_t{12} * g.bins * g.bins}) {
+        in.score_bound = bound;
+        const SearchResult fast = search_partition(in, scratch);
+        INFO("bins " << g.bins << " m " << g.m << " T " << t << " bound " << bound);
+        REQUIRE(fast.found == ref.found);
+        if (!ref.found) continue;
+        ++checked;
+        CHECK(fast.centre_col == ref.centre_col);
+        CHECK(fast.centre_row == ref.centre_row);
+        CHECK(fast.plane == ref.plane);
+        CHECK(fast.score == ref.score);
+        CHECK(fast.total == ref.total);
+      }
+    }
+  }
+  return checked;
+}
+
 }  // namespace
 
 TEST_CASE("integral image rectangle sums equal brute-force sums", "[detector][integral]") {
@@ -74,27 +101,8 @@ TEST_CASE("optimised partition search equals the reference Algorithm 1", "[detec
     const int m =
         seed <= 12 ? 1 + static_cast<int>((seed * 7) % 13) : 9 * static_cast<int>(seed) - 80;
     const Grid g = random_grid(bins, m, seed, seed <= 16 ? 3 : 12);
-    for (bool allow_empty : {true, false}) {
-      for (int t : {0, 5, 40}) {
-        SearchInput in = g.input(t, allow_empty);
-        const SearchResult ref = reference_search_partition(in);
-        // 0: unknown bound, 32-bit lanes; else a true bound, 16-bit lanes.
-        for (std::int64_t bound : {std::int64_t{0}, std::int64_t{12} * bins * bins}) {
-          in.score_bound = bound;
-          const SearchResult fast = search_partition(in, scratch);
-          INFO("seed " << seed << " bins " << bins << " m " << m << " T " << t << " bound "
-                       << bound);
-          REQUIRE(fast.found == ref.found);
-          if (!ref.found) continue;
-          ++checked;
-          CHECK(fast.centre_col == ref.centre_col);
-          CHECK(fast.centre_row == ref.centre_row);
-          CHECK(fast.plane == ref.plane);
-          CHECK(fast.score == ref.score);
-          CHECK(fast.total == ref.total);
-        }
-      }
-    }
+    INFO("seed " << seed);
+    checked += check_against_reference(g, scratch);
   }
   CHECK(checked > 60);
 }
@@ -138,26 +146,8 @@ TEST_CASE("partition search skipping rows under an empty row equals the referenc
       ++empty_rows;
       for (int c = 0; c < bins; ++c) g.slot[static_cast<std::size_t>(r * bins + c)] = -1;
     }
-    for (bool allow_empty : {true, false}) {
-      for (int t : {0, 5, 40}) {
-        SearchInput in = g.input(t, allow_empty);
-        const SearchResult ref = reference_search_partition(in);
-        for (std::int64_t bound : {std::int64_t{0}, std::int64_t{12} * bins * bins}) {
-          in.score_bound = bound;
-          const SearchResult fast = search_partition(in, scratch);
-          INFO("seed " << seed << " bins " << bins << " m " << m << " T " << t << " bound "
-                       << bound);
-          REQUIRE(fast.found == ref.found);
-          if (!ref.found) continue;
-          ++checked;
-          CHECK(fast.centre_col == ref.centre_col);
-          CHECK(fast.centre_row == ref.centre_row);
-          CHECK(fast.plane == ref.plane);
-          CHECK(fast.score == ref.score);
-          CHECK(fast.total == ref.total);
-        }
-      }
-    }
+    INFO("seed " << seed);
+    checked += check_against_reference(g, scratch);
   }
   CHECK(empty_rows > 60);
   CHECK(checked > 60);
