@@ -335,6 +335,8 @@ class ColumnProfiles {
     }
     return kNone;
   }
+  template <class Also>
+  [[nodiscard]] bool level_overhang(std::size_t k, std::size_t end, float level_m, Also also) const;
   [[nodiscard]] bool under_level_overhang(std::size_t k, std::size_t end) const;
   [[nodiscard]] bool meets_underside_edge(std::size_t begin, std::size_t k, std::size_t end) const;
   [[nodiscard]] bool face_under(std::size_t begin, std::size_t j) const;

@@ -299,16 +299,24 @@ bool ColumnProfiles::under_overhang(const ColumnPoint& q, const ColumnPoint& abo
   return above.z > ray_z;
 }
 
+// Whether a later return j of the column than k (a higher ring) overhangs k (under_overhang)
+// level with it within level_m, and also(j) holds: k met the far edge of something the rings
+// over it met from below.
+template <class Also>
+bool ColumnProfiles::level_overhang(Index k, Index end, float level_m, Also also) const {
+  const ColumnPoint& q = points_[k];
+  for (Index j = k + 1; j < end; ++j) {
+    const ColumnPoint& above = points_[j];
+    if (std::abs(above.z - q.z) < level_m && under_overhang(q, above) && also(j)) return true;
+  }
+  return false;
+}
+
 // Whether a later return of the column than k (a higher ring) lies more than overhang_m
 // nearer, over k's ray there and level with k (within single_rise_m): k met the far edge of
 // a roof or a canopy that the rings over it met from below (a carport on a bank's top).
 bool ColumnProfiles::under_level_overhang(Index k, Index end) const {
-  const ColumnPoint& q = points_[k];
-  for (Index j = k + 1; j < end; ++j) {
-    const ColumnPoint& above = points_[j];
-    if (std::abs(above.z - q.z) < p_.single_rise_m && under_overhang(q, above)) return true;
-  }
-  return false;
+  return level_overhang(k, end, p_.single_rise_m, [](Index) { return true; });
 }
 
 // Whether return k, over the sensor, met the far edge of an underside that a later return of
@@ -318,15 +326,9 @@ bool ColumnProfiles::under_level_overhang(Index k, Index end) const {
 // higher ring level with ground past it lies over the lower rings' returns on that face.
 bool ColumnProfiles::meets_underside_edge(Index begin, Index k, Index end) const {
   const ColumnPoint& q = points_[k];
-  if (q.z <= p_.sensor_z) return false;
-  for (Index j = k + 1; j < end; ++j) {
-    const ColumnPoint& above = points_[j];
-    if (std::abs(above.z - q.z) < p_.underside_level_m && q.r - above.r <= p_.underside_reach_m &&
-        under_overhang(q, above) && !face_under(begin, j)) {
-      return true;
-    }
-  }
-  return false;
+  return q.z > p_.sensor_z && level_overhang(k, end, p_.underside_level_m, [&](Index j) {
+           return q.r - points_[j].r <= p_.underside_reach_m && !face_under(begin, j);
+         });
 }
 
 // Whether a lower ring than return j's met a face under j: a return within underside_face_m
