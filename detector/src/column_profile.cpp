@@ -52,7 +52,7 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
     labels[points[k].index] = points[k].ground;
     shadowed[points[k].index] = points[k].shadowed;
   }
-  for (const RingRun& run : runs_) fill_shadows(cloud, run.a, run.b + 1, ground);
+  for (const RingRun& run : runs_) fill_shadows(cloud, run, ground);
   keep_past(strongest);
 }
 

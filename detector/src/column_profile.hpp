@@ -244,6 +244,11 @@ struct ProfileParams {
   // shadow_anchor_m on each side (a lone ground return on a fence line anchors nothing).
   // So are single rises under the ground the vehicle stands on (a levee's side).
   float shadow_band_m = 0.2f, shadow_anchor_m = 0.7f;
+  // ... and over this where an object in front cuts that ground short at the run's end: the
+  // ring steps back onto the run from a nearer return past the object's edge (steps_back).
+  // Between such ground only returns refused past an obstacle are taken, not walls' feet.
+  // The rule off: shadow_anchor_cut_m = shadow_anchor_m.
+  float shadow_anchor_cut_m = 0.3f;
   // The vehicle's road behind an object's foot (rule 5, road_behind_object): carrying the
   // vehicle's road over road_behind_min_rad of the ring (at least road_behind_min_m, at most
   // shadow_anchor_m), the ring stepping back onto it past the object's edge by more than
@@ -384,12 +389,16 @@ class ColumnProfiles {
   void find_ring_runs(const Cloud& cloud, std::size_t strongest_end);
   void remove_silhouettes(const Cloud& cloud);
   void drop_short_level_runs(const Cloud& cloud);
-  void fill_shadows(const Cloud& cloud, std::size_t begin, std::size_t end,
+  struct RingRun;
+  void fill_shadows(const Cloud& cloud, const RingRun& run,
                     std::vector<std::uint8_t>& ground) const;
+  // How far a ground stretch of a ring run is seen (fill_shadows): not far enough, over
+  // shadow_anchor_cut_m where an object cuts it short, over shadow_anchor_m.
+  enum class Anchor : std::uint8_t { none, cut_short, full };
   void fill_between(const Cloud& cloud, std::size_t a, std::size_t b,
-                    std::vector<std::uint8_t>& ground) const;
-  [[nodiscard]] bool long_ground_from(const Cloud& cloud, const std::vector<std::uint8_t>& ground,
-                                      std::size_t i, std::size_t end) const;
+                    std::vector<std::uint8_t>& ground, bool feet) const;
+  [[nodiscard]] Anchor ground_from(const Cloud& cloud, const std::vector<std::uint8_t>& ground,
+                                   std::size_t i, std::size_t end, std::size_t last) const;
   void mark_continuous(const Cloud& cloud, std::size_t end);
   [[nodiscard]] bool bridged_over_sensor(const Cloud& cloud, std::size_t a) const;
   [[nodiscard]] bool stands_out(const Cloud& cloud, std::size_t first, std::size_t last,
@@ -409,7 +418,6 @@ class ColumnProfiles {
   [[nodiscard]] bool end_open(const Cloud& cloud, std::size_t end, const RingBeyond& beyond,
                               bool face = false) const;
   [[nodiscard]] bool under_lower_ground(const Cloud& cloud, std::size_t end) const;
-  struct RingRun;
   [[nodiscard]] bool outer_end_sky(const Cloud& cloud, const RingRun& run, bool after) const;
   void drop_wall_lines(const Cloud& cloud);
   [[nodiscard]] bool ground_and_face(const RingRun& run) const;

@@ -120,61 +120,88 @@ ColumnProfiles::FaceHeight ColumnProfiles::face_height(const Cloud& cloud, Index
   return height;
 }
 
-// Run [begin, end) of one ring: an obstacle near the sensor (a trunk, a box, a car) hides
-// the lower rings of the columns behind it, and the walk refuses the ground a higher ring
-// sees past it when that ground has risen more than the allowance past an obstacle (the
-// far side of a bowl, a hill behind a tree). The ring itself runs on across the shadow: a
-// stretch of such returns with ground on both sides is ground where it lies on the line
-// joining that ground. The ground on each side must be seen over shadow_anchor_m, so that
-// a lone ground return on a fence line anchors nothing. Single rises (rule 4) under the
-// ground the vehicle stands on are taken the same way: a ring grazing a levee's side where
-// the level-2 surface was fitted to the fields below.
-void ColumnProfiles::fill_shadows(const Cloud& cloud, Index begin, Index end,
+// A run of one ring: an obstacle near the sensor (a trunk, a box, a car) hides the lower
+// rings of the columns behind it, and the walk refuses the ground a higher ring sees past
+// it when that ground has risen more than the allowance past an obstacle (the far side of a
+// bowl, a hill behind a tree). The ring itself runs on across the shadow: a stretch of such
+// returns with ground on both sides is ground where it lies on the line joining that
+// ground. The ground on each side must be seen over shadow_anchor_m, so that a lone ground
+// return on a fence line anchors nothing; over shadow_anchor_cut_m where an object in front
+// cuts that ground short at the run's end (the ring steps back onto the run from a nearer
+// return past the object's edge: a second object beside the one casting the shadow,
+// hills_s4); between such ground the feet of walls (kFoot) are not taken (a face's foot
+// past a car, urban_s205_hires). Single rises (rule 4) under the ground the vehicle stands
+// on are taken the same way: a ring grazing a levee's side where the level-2 surface was
+// fitted to the fields below.
+void ColumnProfiles::fill_shadows(const Cloud& cloud, const RingRun& run,
                                   std::vector<std::uint8_t>& ground) const {
+  const Index begin = run.a, end = run.b + 1;
+  int begin_cut = -1;  // whether an object cuts the run at its beginning (-1: not asked yet)
+  const auto cut_at_begin = [&] {
+    if (begin_cut < 0) begin_cut = begin > run.first && steps_back(cloud, begin - 1, begin);
+    return begin_cut != 0;
+  };
   Index anchor = end;  // last return of a long enough ground stretch before a shadow
   Index start = end;   // first return of the ground stretch being walked
-  bool long_stretch = false;
+  Anchor stretch = Anchor::none;      // how far the stretch being walked is seen so far
+  Anchor anchor_seen = Anchor::none;  // ... and the stretch of `anchor`
   for (Index i = begin; i < end; ++i) {
     if (ground[i] == 0) {
       start = end;
-      long_stretch = false;
+      stretch = Anchor::none;
       if (shadowed_[i] == 0) anchor = end;  // an obstacle of the ring itself
       continue;
     }
     if (start == end) start = i;
     // The first ground return past a shadow: the ground beyond it must be long enough too.
-    if (anchor != end && i > anchor + 1 && ground[i - 1] == 0 &&
-        long_ground_from(cloud, ground, i, end))
-      fill_between(cloud, anchor, i, ground);
-    long_stretch = long_stretch || apart(cloud, start, i, p_.shadow_anchor_m);
-    if (long_stretch) anchor = i;
+    if (anchor != end && i > anchor + 1 && ground[i - 1] == 0) {
+      const Anchor beyond = ground_from(cloud, ground, i, end, run.last);
+      // Feet of walls (kFoot) only between ground seen over shadow_anchor_m on both sides.
+      if (beyond != Anchor::none)
+        fill_between(cloud, anchor, i, ground, std::min(anchor_seen, beyond) == Anchor::full);
+    }
+    if (stretch != Anchor::full && apart(cloud, start, i, p_.shadow_anchor_m)) {
+      stretch = Anchor::full;
+    } else if (stretch == Anchor::none && start == begin &&
+               apart(cloud, start, i, p_.shadow_anchor_cut_m) && cut_at_begin()) {
+      stretch = Anchor::cut_short;
+    }
+    if (stretch != Anchor::none) anchor = i, anchor_seen = stretch;
   }
 }
 
 // The returns between ground returns a and b (same ring) become ground when every refused
 // one lies within shadow_band_m of the line joining a and b (by column); the foot of a wall
-// within steep_band_m of it, as on the profile.
+// (where `feet`) within steep_band_m of it, as on the profile.
 void ColumnProfiles::fill_between(const Cloud& cloud, Index a, Index b,
-                                  std::vector<std::uint8_t>& ground) const {
+                                  std::vector<std::uint8_t>& ground, bool feet) const {
   const float z0 = cloud.z[a], z1 = cloud.z[b];
   const float span = static_cast<float>(cloud.column[b] - cloud.column[a]);
   for (Index k = a + 1; k < b; ++k) {
+    if (ground[k] != 0) continue;
+    const bool foot = shadowed_[k] == kFoot;
+    if (foot && !feet) return;
     const float t = static_cast<float>(cloud.column[k] - cloud.column[a]) / span;
-    const float band = shadowed_[k] == kFoot ? p_.steep_band_m : p_.shadow_band_m;
-    if (ground[k] == 0 && std::abs(cloud.z[k] - (z0 + t * (z1 - z0))) > band) return;
+    const float band = foot ? p_.steep_band_m : p_.shadow_band_m;
+    if (std::abs(cloud.z[k] - (z0 + t * (z1 - z0))) > band) return;
   }
   std::fill(ground.begin() + static_cast<std::ptrdiff_t>(a) + 1,
             ground.begin() + static_cast<std::ptrdiff_t>(b), std::uint8_t{1});
 }
 
-// Whether the ground returns of the run from i (before `end`) reach shadow_anchor_m from it.
-inline bool ColumnProfiles::long_ground_from(const Cloud& cloud,
-                                             const std::vector<std::uint8_t>& ground, Index i,
-                                             Index end) const {
-  for (Index j = i; j < end && ground[j] != 0; ++j) {
-    if (apart(cloud, i, j, p_.shadow_anchor_m)) return true;
+// How far the ground returns of the run from i (before `end`, the ring's returns ending at
+// `last`) are seen: over shadow_anchor_m from it (full), or over shadow_anchor_cut_m where
+// they run on to `end` and an object cuts the run there (cut_short).
+inline ColumnProfiles::Anchor ColumnProfiles::ground_from(const Cloud& cloud,
+                                                          const std::vector<std::uint8_t>& ground,
+                                                          Index i, Index end, Index last) const {
+  Index j = i;
+  for (; j < end && ground[j] != 0; ++j) {
+    if (apart(cloud, i, j, p_.shadow_anchor_m)) return Anchor::full;
   }
-  return false;
+  const bool cut = j == end && end < last && apart(cloud, i, end - 1, p_.shadow_anchor_cut_m) &&
+                   steps_back(cloud, end, end - 1);
+  return cut ? Anchor::cut_short : Anchor::none;
 }
 
 }  // namespace vlpground::detail
