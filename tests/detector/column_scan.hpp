@@ -219,4 +219,32 @@ inline Scan bowl_behind_box(float shadow_z) {
   return s;
 }
 
+// A hill behind a box and a post (sim hills_s4, frame 2, ring 7 past a box 8.7 m out): the
+// box, 5 m out, hides rings 0-3 in columns 18-39, and ring 4, 20 m out, runs on past it on
+// the hill, 1.6 m up. In the columns before `open` open ones a post as tall as ring 4
+// stands (or, without `post`, ring 4 drops out there), so that ring 4 sees the hill before
+// the shadow only in the open columns. With `wall`, ring 4 meets a wall's foot past the box
+// instead, rings 5-7 the wall over it.
+inline Scan hill_behind_box_and_post(int open, bool post, bool wall) {
+  const float range[] = {6.f, 8.f, 11.f, 15.f, 20.f};
+  const int post_end = 18 - open, post_begin = post_end - 6;
+  Scan s;
+  for (int ring = 0; ring < (wall ? 8 : 5); ++ring) {
+    for (int col = 0; col < 60; ++col) {
+      const bool box = col >= 18 && col < 40, beside = col >= post_begin && col < post_end;
+      if (ring > 4) {
+        if (box) add(s, ring, col, 20.f, 1.63f + 0.4f * static_cast<float>(ring - 4), 2);
+      } else if (beside && !post && ring == 4) {
+        continue;  // ring 4 dropped out
+      } else if (beside || (box && ring < 4)) {
+        add(s, ring, col, 5.f, 0.3f * static_cast<float>(ring + 1), 2);
+      } else {
+        const float r = range[ring];
+        add(s, ring, col, r, box ? (wall ? 1.63f : 1.6f) : 0.004f * r * r, 1);
+      }
+    }
+  }
+  return s;
+}
+
 }  // namespace column_scan

@@ -53,32 +53,12 @@ TEST_CASE("column profiles: a ring's ground across the shadow of an obstacle is 
 
 TEST_CASE("column profiles: a shadow's ground cut short by a second object still anchors it",
           "[detector][profiles]") {
-  // A hill behind two objects (sim hills_s4, frame 2, ring 7 past a box 8.7 m out): a box
-  // 5 m out hides rings 0-3 in columns 18-39, and ring 4, 20 m out, runs on past it on the
-  // hill, 1.6 m up. Beside the box a post as tall as ring 4 stands in the columns before
-  // `open` open ones, so that ring 4 sees the hill before the shadow only there, between
-  // the post and the shadow: 0.35 m of the ring for two columns, under shadow_anchor_m.
+  // Ring 4 sees the hill before the box's shadow between a post and the shadow only, in two
+  // columns (0.35 m of the ring, under shadow_anchor_m): hill_behind_box_and_post.
   enum Beside { kPost, kDropout };
   const auto shadow_ground = [](int open, Beside beside, const ProfileParams& p,
                                 bool wall = false) {
-    const float range[] = {6.f, 8.f, 11.f, 15.f, 20.f};
-    const int post_end = 18 - open, post_begin = post_end - 6;
-    Scan s;
-    for (int ring = 0; ring < (wall ? 8 : 5); ++ring) {
-      for (int col = 0; col < 60; ++col) {
-        const float r = range[std::min(ring, 4)];
-        const bool box = col >= 18 && col < 40, post = col >= post_begin && col < post_end;
-        if (post && beside == kDropout && ring == 4) continue;  // ring 4 lost there
-        if (ring > 4) {                                         // a wall over ring 4 past the box
-          if (box) add(s, ring, col, 20.f, 1.63f + 0.4f * static_cast<float>(ring - 4), 2);
-          continue;
-        }
-        if (post || (box && ring < 4))
-          add(s, ring, col, 5.f, 0.3f * static_cast<float>(ring + 1), 2);
-        else
-          add(s, ring, col, r, box ? (wall ? 1.63f : 1.6f) : 0.004f * r * r, 1);
-      }
-    }
+    const Scan s = hill_behind_box_and_post(open, beside == kPost, wall);
     const auto ground =
         label_by_cell(s, {}, {}, std::vector<bool>(s.cloud.size(), false), nullptr, false, p)
             .ground;
@@ -93,15 +73,14 @@ TEST_CASE("column profiles: a shadow's ground cut short by a second object still
   ProfileParams off;
   off.shadow_anchor_cut_m = off.shadow_anchor_m;
   CHECK(shadow_ground(2, kPost, off) == 0);  // the rule off
-  // No object cuts that ground short (ring 4 dropped in the post's columns): a lone stretch
-  // on a fence line anchors nothing.
+  // No object cuts that ground short (ring 4 dropped out beside the box): a lone stretch on
+  // a fence line anchors nothing.
   CHECK(shadow_ground(2, kDropout, defaults) == 0);
   // One open column: a single return, under shadow_anchor_cut_m.
   CHECK(shadow_ground(1, kPost, defaults) == 0);
   // With the ground seen over shadow_anchor_m the shadow is ground anyway.
   CHECK(shadow_ground(4, kDropout, defaults) == 22);
-  // A wall's foot in the shadow instead (the wall rising over ring 4): taken between ground
-  // seen over shadow_anchor_m only.
+  // A wall's foot in the shadow instead: taken between ground seen over shadow_anchor_m only.
   CHECK(shadow_ground(4, kDropout, defaults, true) == 22);
   CHECK(shadow_ground(2, kPost, defaults, true) == 0);
 }
