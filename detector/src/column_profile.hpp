@@ -219,6 +219,13 @@ struct ProfileParams {
   float run_gap_m = 0.3f, run_gap_per_m = 0.02f;
   float silhouette_max_m = 6.f;
   int sky_columns = 3;
+  // ... and a run over the sensor up to wide_silhouette_max_m long, within
+  // wide_silhouette_range_m, with the sky at both ends, where each end lies more than
+  // wide_silhouette_past_lower times as far out as its column's ground return of the ring
+  // below (the ground between unseen): the top of an object on a bank's top.
+  float wide_silhouette_max_m = 8.f;
+  float wide_silhouette_range_m = 50.f;
+  float wide_silhouette_past_lower = 1.5f;
   // This frame is a fragment of a rotation going on from the previous frame labelled, a
   // whole rotation that ended at the cut (consecutive, nothing between): a ring's run at the
   // frame's first or last columns is judged with its part in the previous frame
@@ -403,6 +410,9 @@ class ColumnProfiles {
   [[nodiscard]] bool bridged_over_sensor(const Cloud& cloud, std::size_t a) const;
   [[nodiscard]] bool stands_out(const Cloud& cloud, std::size_t first, std::size_t last,
                                 std::size_t a, std::size_t b) const;
+  [[nodiscard]] bool wide_silhouette(const Cloud& cloud, std::size_t first, std::size_t last,
+                                     std::size_t a, std::size_t b, float extent) const;
+  [[nodiscard]] bool far_past_lower_ground(const Cloud& cloud, std::size_t end) const;
   // The ring's return beyond a run's end (kNone: none known), the columns without a return
   // between them, and whether it lies across the frame's edge (its range then off by the
   // vehicle's motion over the rotation).

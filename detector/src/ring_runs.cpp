@@ -711,13 +711,44 @@ bool ColumnProfiles::bridged_over_sensor(const Cloud& cloud, Index a) const {
 bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Index a,
                                 Index b) const {
   const float extent = std::hypot(cloud.x[b] - cloud.x[a], cloud.y[b] - cloud.y[a]);
-  if (extent > p_.silhouette_max_m) return false;
+  if (extent > p_.silhouette_max_m) return wide_silhouette(cloud, first, last, a, b, extent);
   // At one range (a face) asked only across the frame's edge: the walk along the run costs.
   const auto face = [&] { return a < b && at_one_range(cloud, a, b); };
   const RingBeyond before = beyond_end(cloud, first, last, a, false);
   if (!end_open(cloud, a, before, before.across && face())) return false;
   const RingBeyond after = beyond_end(cloud, first, last, b, true);
   return end_open(cloud, b, after, after.across && face());
+}
+
+// Run [a, b] of one ring, longer than silhouette_max_m: a wider silhouette
+// (wide_silhouette_max_m, within wide_silhouette_range_m) over the sensor with the sky at
+// both ends, each end far past its column's ground return of the ring below. The ground
+// between is unseen, and terrain rising to meet the ray there would meet it along more of
+// the ring than an object's width: bank_s5901, the top of an object 6.1 m wide 38-42 m
+// out, 1.6 m over a bank's top that the ring below met 19 m out. Nearer, a ring over the
+// sensor meets a bank's face or a hill's top against the sky a few metres past the ring
+// below (bank_s5905 at Hi-Res, ring 15 at 16 m; hills_s5002 tilted, ring 12 at 33 m);
+// farther, the outline of hills 80-90 m out (hills_s104 at 5 Hz, bank_s804).
+bool ColumnProfiles::wide_silhouette(const Cloud& cloud, Index first, Index last, Index a, Index b,
+                                     float extent) const {
+  if (extent > p_.wide_silhouette_max_m || p_.sensor_z <= 0.f) return false;
+  for (const Index end : {a, b}) {
+    if (cloud.z[end] <= p_.sensor_z || cloud.range_xy[end] > p_.wide_silhouette_range_m ||
+        !far_past_lower_ground(cloud, end)) {
+      return false;
+    }
+  }
+  return beyond_end(cloud, first, last, a, false).gap >= p_.sky_columns &&
+         beyond_end(cloud, first, last, b, true).gap >= p_.sky_columns;
+}
+
+// Whether return `end` lies more than wide_silhouette_past_lower times as far out as its
+// column's return of the ring below, taken as ground.
+bool ColumnProfiles::far_past_lower_ground(const Cloud& cloud, Index end) const {
+  const Index k = position_[end];
+  const Index j = lower_ring_return(column_start_[cloud.column[end]], k);
+  return j != kNone && points_[j].ground != 0 &&
+         points_[j].r * p_.wide_silhouette_past_lower < points_[k].r;
 }
 
 // The ring's return beyond run end `end` (positions first..last): the next one (`after`)

@@ -176,6 +176,40 @@ TEST_CASE("column profiles: a rising ray passing on beside a face the next colum
   CHECK(bush_ground(4.f) == 10);
 }
 
+TEST_CASE("column profiles: a wider run far past the ring below against the sky is an object",
+          "[detector][profiles]") {
+  // Sim bank_s5901 (20 Hz, frame 1): rings up a bank face; the ring over them, rising over
+  // the sensor, meets nothing but an object's top 6.1 m wide 38-42 m out, the sky on both
+  // sides, its column's ring below on the bank 19 m out. Here rings 0-3 climb a face to
+  // 13 m and ring 4 meets a run `columns` wide (1 degree each) `r` out, on a ray rising at
+  // `ray`; `beside` puts a return farther out just before it (no sky there).
+  constexpr int kFirst = 20;
+  const auto object_ground = [](float r, int columns, float ray = 0.05f, bool beside = false,
+                                bool car_below = false) {
+    Scan s;
+    add_bank_rings(s, 3, 60);
+    for (int col = 0; col < 60; ++col) {  // ring 3 on the face, or on a car's roof 3.5 m up
+      const bool car = car_below && col >= kFirst && col < kFirst + columns;
+      add(s, 3, col, 13.f, car ? 3.5f : 1.05f, car ? 2 : 1);
+    }
+    if (beside) add(s, 4, kFirst - 1, r + 15.f, 1.8f + ray * (r + 15.f), 2);
+    for (int col = kFirst; col < kFirst + columns; ++col) add(s, 4, col, r, 1.8f + ray * r, 2);
+    return ground_on_ring(s, label(s).ground, 4, kFirst + columns);
+  };
+  CHECK(object_ground(25.f, 16) == 0);                // 6.5 m wide
+  CHECK(object_ground(25.f, 21) == 21);               // 8.6 m wide: over wide_silhouette_max_m
+  CHECK(object_ground(25.f, 16, 0.05f, true) == 16);  // no sky before it
+  // 19 m out, not 1.5 times as far as the ring below (13 m): a hill's top against the sky.
+  CHECK(object_ground(19.f, 22) == 22);
+  // 55 m out (7 m wide): past wide_silhouette_range_m, the outline of far hills.
+  CHECK(object_ground(55.f, 8) == 8);
+  // Under the sensor.
+  CHECK(object_ground(25.f, 16, -0.01f) == 16);
+  // Where the ring below met no ground in its columns (a car's roof, refused as a step),
+  // nothing says where the ground under the ray is.
+  CHECK(object_ground(25.f, 16, 0.05f, false, true) == 16);
+}
+
 TEST_CASE("column profiles: a ring is a closed curve across the frame's edge",
           "[detector][profiles]") {
   // Sim slope (seed 2): a low object 35 m straight ahead, where the frame's edge cuts the
