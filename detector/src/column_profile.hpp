@@ -502,6 +502,7 @@ class ColumnProfiles {
   [[nodiscard]] bool continuous_across_edge(const Cloud& cloud, std::size_t end,
                                             std::size_t start) const;
   [[nodiscard]] bool under_half_turn(const Cloud& cloud, std::size_t a, std::size_t b) const;
+  [[nodiscard]] bool turns_under_half(const Cloud& cloud, std::size_t a, std::size_t b) const;
   void remove_silhouette(const Cloud& cloud, const RingRun& run, const RingRun* before);
   [[nodiscard]] bool carries_vehicle_road(const Cloud& cloud, std::size_t i,
                                           float level_m = std::numeric_limits<float>::max()) const;

@@ -478,13 +478,28 @@ std::size_t ColumnProfiles::next_run(std::size_t i) const {
   return j == i ? kNoRun : j;
 }
 
-// Whether a run from return a (before the frame's edge) to b (after it) covers less than
-// half the frame's columns: its extent, the chord between its ends, then measures it (a ring
-// seen all around but for a gap has close ends too).
+// Whether a run from return a to b (across the frame's edge where b's column is before
+// a's) covers less than half the frame's columns: its extent, the chord between its ends,
+// then measures it (a ring seen all around but for a gap has close ends too).
 bool ColumnProfiles::under_half_turn(const Cloud& cloud, Index a, Index b) const {
   const int columns = frame_columns();
   const int span = static_cast<int>(cloud.column[b]) + columns - static_cast<int>(cloud.column[a]);
   return 2 * span < columns;
+}
+
+// Whether a run from return a to b (on one side of the frame's edge, b after a) turns less
+// than half a turn round the sensor: the angles from a to its middle return and from there
+// to b, each under half a turn, add up to under half. The frame's columns do not measure it
+// (a fragment of a rotation has fewer), but a run under half of them turns under half.
+bool ColumnProfiles::turns_under_half(const Cloud& cloud, Index a, Index b) const {
+  if (2 * (cloud.column[b] - cloud.column[a]) < frame_columns()) return true;
+  const Index m = a + (b - a) / 2;
+  const auto angle = [&](Index i, Index j) {
+    const float ix = cloud.x[i] - p_.sensor_x, iy = cloud.y[i] - p_.sensor_y;
+    const float jx = cloud.x[j] - p_.sensor_x, jy = cloud.y[j] - p_.sensor_y;
+    return std::atan2(ix * jy - iy * jx, ix * jx + iy * jy);
+  };
+  return std::abs(angle(a, m) + angle(m, b)) < std::numbers::pi_v<float>;
 }
 
 // The run standing out (with its part before the frame's edge, if any) is an object unless
@@ -712,6 +727,7 @@ bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Ind
                                 Index b) const {
   const float extent = std::hypot(cloud.x[b] - cloud.x[a], cloud.y[b] - cloud.y[a]);
   if (extent > p_.silhouette_max_m) return wide_silhouette(cloud, first, last, a, b, extent);
+  if (a < b && !turns_under_half(cloud, a, b)) return false;
   // At one range (a face) asked only across the frame's edge: the walk along the run costs.
   const auto face = [&] { return a < b && at_one_range(cloud, a, b); };
   const RingBeyond before = beyond_end(cloud, first, last, a, false);

@@ -210,6 +210,37 @@ TEST_CASE("column profiles: a wider run far past the ring below against the sky 
   CHECK(object_ground(25.f, 16, 0.05f, false, true) == 16);
 }
 
+TEST_CASE("column profiles: a run around most of the turn never stands out",
+          "[detector][profiles]") {
+  // Fresh hills_s5902 tilted (frame 2): ring 2 meets the hillside 10-11 m out over 1672 of
+  // the 1808 columns and, over the rest, straight ahead where the frame is cut, passes over
+  // a crest to a valley 32-47 m out. Both ends of the near run open onto the farther valley
+  // and lie 5 m apart across the gap: its chord is no extent, the run no object.
+  const auto near_ground = [](int gap_columns) {
+    Scan s;
+    add_level_rings(s, {6.f, 8.f}, kColumns);
+    const int half = gap_columns / 2;
+    for (int col = 0; col < kColumns; ++col) {
+      const bool valley = col < half || col >= kColumns - half;
+      add(s, 2, col, valley ? 40.f : 10.f, valley ? -4.f : 0.f, 1);
+    }
+    return ground_on_ring(s, label(s).ground, 2, kColumns - half) -
+           ground_on_ring(s, label(s).ground, 2, half);
+  };
+  CHECK(near_ground(30) == kColumns - 30);  // the ends 5.3 m apart
+  // A fragment of a rotation (10 columns, the frame cut there; crest_s5002 at Hi-Res): a
+  // car 27 m out over 6 of them, farther ground on both sides, turns 5 degrees, not half a
+  // turn, however many of the fragment's columns it covers.
+  Scan s;
+  add_level_rings(s, {6.f, 8.f}, 10);
+  for (int col = 0; col < 10; ++col) {
+    const bool car = col >= 2 && col <= 7;
+    add(s, 2, col, car ? 27.f : 60.f, car ? -1.5f : -5.8f, car ? 2 : 1);
+  }
+  const auto ground = label(s).ground;
+  CHECK(ground_on_ring(s, ground, 2, 8) - ground_on_ring(s, ground, 2, 2) == 0);
+}
+
 TEST_CASE("column profiles: a ring is a closed curve across the frame's edge",
           "[detector][profiles]") {
   // Sim slope (seed 2): a low object 35 m straight ahead, where the frame's edge cuts the
