@@ -550,8 +550,15 @@ void ColumnProfiles::drop_run(const RingRun& run, Index keep_a, Index keep_b) {
 // rings lie metres apart and the road's edge may pass between them: a bush's top over the
 // fields 25 m out, level with the lower ring's road 8 m nearer (embankment_s1205 tilted).
 void ColumnProfiles::drop_all_but_road_through_gaps(const Cloud& cloud, const RingRun& run) {
+  // The column's first return (the lowest ring on a car's foot: embankment_s6003 at 5 Hz)
+  // goes on from the vehicle's ground, not from a lower ring's road.
   const auto level_road = [&](Index i) {
-    return taken(i) && goes_on_from_road(cloud, i, p_.whole_run_level_m, p_.gap_road_reach_m);
+    if (!taken(i)) return false;
+    const Index k = position_[i];
+    if (k == column_start_[cloud.column[i]]) {
+      return std::abs(cloud.z[i] - start_z_) <= p_.whole_run_level_m;
+    }
+    return goes_on_from_road(cloud, i, p_.whole_run_level_m, p_.gap_road_reach_m);
   };
   Index i = run.a;
   while (i <= run.b) {

@@ -555,10 +555,11 @@ TEST_CASE("column profiles: the vehicle's road seen through gaps in an object's 
     int last = 20;         // the gaps: the even columns from 20 to last (20 to 40: the car)
     float foot_b = 3.2f;   // the foot's range in columns 23, 27, 31, ... (the others: 3.2 m)
     float lower_r = 2.6f;  // ring 0's road, which the gaps' road goes on from
+    bool lowest = false;   // no ring 0: ring 1 is its columns' first return
   };
   const auto gap_ground = [](const Gap& gap) {
     Scan s;
-    for (int col = 0; col <= 84; ++col) add(s, 0, col, gap.lower_r, -0.08f, 1);
+    for (int col = 0; col <= 84 && !gap.lowest; ++col) add(s, 0, col, gap.lower_r, -0.08f, 1);
     for (int col = 0; col <= 84; ++col) {
       if (col < 20 || col > 40) {
         add(s, 1, col, 20.7f, -2.93f, 1);  // the fields past the levee's edge
@@ -600,6 +601,12 @@ TEST_CASE("column profiles: the vehicle's road seen through gaps in an object's 
   // 1.9 m is within it.
   CHECK(gap_ground({.last = 28, .lower_r = 1.4f}) == 0);
   CHECK(gap_ground({.last = 28, .lower_r = 1.6f}) == 4);
+  // The lowest ring on the foot (embankment_s6003 at 5 Hz: ring 0 on a car's foot 6.5 m out
+  // at the lane's edge, the road 6.9 m out through its gaps): the road through the gaps is
+  // the column's first return, level with the vehicle's ground within whole_run_level_m,
+  // not 0.08 m over it.
+  CHECK(gap_ground({.z = -0.03f, .last = 28, .lowest = true}) == 4);
+  CHECK(gap_ground({.z = 0.08f, .last = 28, .lowest = true}) == 0);
 }
 
 TEST_CASE("column profiles: the vehicle's road seen by any two consecutive rings is ground",
