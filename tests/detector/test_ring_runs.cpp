@@ -224,8 +224,8 @@ TEST_CASE("column profiles: a run around most of the turn never stands out",
       const bool valley = col < half || col >= kColumns - half;
       add(s, 2, col, valley ? 40.f : 10.f, valley ? -4.f : 0.f, 1);
     }
-    return ground_on_ring(s, label(s).ground, 2, kColumns - half) -
-           ground_on_ring(s, label(s).ground, 2, half);
+    const auto ground = label(s).ground;
+    return ground_on_ring(s, ground, 2, kColumns - half) - ground_on_ring(s, ground, 2, half);
   };
   CHECK(near_ground(30) == kColumns - 30);  // the ends 5.3 m apart
   // A fragment of a rotation (10 columns, the frame cut there; crest_s5002 at Hi-Res): a
