@@ -413,6 +413,7 @@ class ColumnProfiles {
   [[nodiscard]] bool wide_silhouette(const Cloud& cloud, std::size_t first, std::size_t last,
                                      std::size_t a, std::size_t b, float extent) const;
   [[nodiscard]] bool far_past_lower_ground(const Cloud& cloud, std::size_t end) const;
+  [[nodiscard]] std::size_t lower_ring_ground(const Cloud& cloud, std::size_t end) const;
   // The ring's return beyond a run's end (kNone: none known), the columns without a return
   // between them, and whether it lies across the frame's edge (its range then off by the
   // vehicle's motion over the rotation).

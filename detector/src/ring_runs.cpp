@@ -768,10 +768,15 @@ bool ColumnProfiles::wide_silhouette(const Cloud& cloud, Index first, Index last
 // Whether return `end` lies more than wide_silhouette_past_lower times as far out as its
 // column's return of the ring below, taken as ground.
 bool ColumnProfiles::far_past_lower_ground(const Cloud& cloud, Index end) const {
-  const Index k = position_[end];
-  const Index j = lower_ring_return(column_start_[cloud.column[end]], k);
-  return j != kNone && points_[j].ground != 0 &&
-         points_[j].r * p_.wide_silhouette_past_lower < points_[k].r;
+  const Index j = lower_ring_ground(cloud, end);
+  return j != kNone && points_[j].r * p_.wide_silhouette_past_lower < points_[position_[end]].r;
+}
+
+// The column point of return `end`'s column's return of the ring below where that is
+// ground, else kNone.
+std::size_t ColumnProfiles::lower_ring_ground(const Cloud& cloud, Index end) const {
+  const Index j = lower_ring_return(column_start_[cloud.column[end]], position_[end]);
+  return j != kNone && points_[j].ground != 0 ? j : kNone;
 }
 
 // The ring's return beyond run end `end` (positions first..last): the next one (`after`)
@@ -839,9 +844,8 @@ bool ColumnProfiles::end_open(const Cloud& cloud, Index end, const RingBeyond& b
 // Whether return `end` lies more than drop_m under its column's return of the ring below,
 // taken as ground: the walk met it as a lower surface past a grade change.
 bool ColumnProfiles::under_lower_ground(const Cloud& cloud, Index end) const {
-  const Index k = position_[end];
-  const Index j = lower_ring_return(column_start_[cloud.column[end]], k);
-  return j != kNone && points_[j].ground != 0 && points_[j].z - points_[k].z > p_.drop_m;
+  const Index j = lower_ring_ground(cloud, end);
+  return j != kNone && points_[j].z - points_[position_[end]].z > p_.drop_m;
 }
 
 // Whether the ray of return `end`, rising over the sensor, passed on where the same ring's
