@@ -449,6 +449,10 @@ class ColumnProfiles {
   [[nodiscard]] bool at_one_range(const Cloud& cloud, const RingRun& run) const;
   [[nodiscard]] bool at_one_range(const Cloud& cloud, std::size_t a, std::size_t b) const;
   [[nodiscard]] bool level_with_start(const RingRun& run) const;
+  [[nodiscard]] bool falls_away_past(const Cloud& cloud, std::size_t end,
+                                     const RingBeyond& beyond) const;
+  [[nodiscard]] bool lone_before_sky(const Cloud& cloud, std::size_t first, std::size_t last,
+                                     std::size_t i, bool after) const;
   [[nodiscard]] bool hidden_by_object(const Cloud& cloud, std::size_t first, std::size_t last,
                                       std::size_t end, const RingBeyond& beyond, bool after) const;
   [[nodiscard]] std::size_t next_run(std::size_t i) const;

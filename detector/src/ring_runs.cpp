@@ -250,7 +250,8 @@ bool ColumnProfiles::face_over_line(const Cloud& cloud, const RingRun& first,
 // where a ring tracing terrain sideways recedes along it (bank_s1805 tilted: ring 10 on a
 // bank's top, 17 -> 23 m out between two bushes). A run with a return level with the ground
 // under the vehicle stays: the road between two parked cars, joined by the ring to the
-// lower one's side (jam). Marked again while runs are added, until none is: each one found
+// lower one's side (jam), unless the ring past its open end falls away onto an object far
+// under it (falls_away_past). Marked again while runs are added, until none is: each one found
 // may hide the next, and chains run long (cars one behind the other down a ramp, an
 // object's edge stepping back column by column, each step a run of its own). A mark only
 // helps hide another run, so the marks found do not depend on the order; the passes
@@ -284,11 +285,30 @@ bool ColumnProfiles::hidden_run(const Cloud& cloud, const RingRun& run) const {
   const RingBeyond before = beyond_end(cloud, run.first, run.last, run.a, false);
   const RingBeyond after = beyond_end(cloud, run.first, run.last, run.b, true);
   // The open end first: hidden_by_object walks the ring past the object in front.
-  const bool hidden = (end_open(cloud, run.a, before) &&
-                       hidden_by_object(cloud, run.first, run.last, run.b, after, true)) ||
-                      (end_open(cloud, run.b, after) &&
-                       hidden_by_object(cloud, run.first, run.last, run.a, before, false));
-  return hidden && !level_with_start(run);  // walked only for a hidden run
+  const bool open_a = end_open(cloud, run.a, before) &&
+                      hidden_by_object(cloud, run.first, run.last, run.b, after, true);
+  const bool open_b = !open_a && end_open(cloud, run.b, after) &&
+                      hidden_by_object(cloud, run.first, run.last, run.a, before, false);
+  if (!open_a && !open_b) return false;
+  // Walked only for a hidden run.
+  return !level_with_start(run) ||
+         falls_away_past(cloud, open_a ? run.a : run.b, open_a ? before : after);
+}
+
+// Whether the ring past run end `end` (its return `beyond`) meets an object more than
+// drop_m under it: a return the column walk did not take as ground, or
+// one standing out. The terrain under that object lies lower still, out of the ring's
+// reach: a run level with the vehicle's ground there is no road going on but an object's
+// face the ring met at its level-ground range, past a grade change where the slope falls
+// away (slope_s6103: ring 6 on a van 36.8 m out, 1.4 m over the slope, beside a nearer box;
+// past the van the sky, then an object 3.2 m tall 58 m out). The road beside a car on an
+// embankment meets the fields far below past it, taken as ground (embankment_s901 tilted).
+bool ColumnProfiles::falls_away_past(const Cloud& cloud, Index end,
+                                     const RingBeyond& beyond) const {
+  if (beyond.index == kNone) return false;
+  const Index k = beyond.index;
+  return cloud.z[end] - cloud.z[k] > p_.drop_m &&
+         (points_[position_[k]].ground == 0 || stands_out_[k] != 0);
 }
 
 // Whether run `run`'s returns lie within one run gap in range of its nearest.
@@ -334,7 +354,9 @@ bool ColumnProfiles::level_with_start(const RingRun& run) const {
 // goes to the sky at the object's far end (sky_columns or more without a return), the run
 // is hidden: past a crest an object 35 m out beside a nearer one with the sky beyond it
 // (crest_s1001 tilted). Only while still passing the object: past it the walk follows the
-// ring on, and the sky far along it says nothing of the run (hills_s5 at 20 Hz).
+// ring on, and the sky far along it says nothing of the run (hills_s5 at 20 Hz). Where the
+// ring ends past the object at a speck before the sky (lone_before_sky), it did not come
+// out there either.
 bool ColumnProfiles::hidden_by_object(const Cloud& cloud, Index first, Index last, Index end,
                                       const RingBeyond& beyond, bool after) const {
   if (beyond.index == kNone || beyond.gap >= p_.sky_columns || stands_out_[beyond.index] == 0 ||
@@ -356,7 +378,9 @@ bool ColumnProfiles::hidden_by_object(const Cloud& cloud, Index first, Index las
     } else {
       int around = 0;
       // Across the frame's edge only while passing the object, once.
-      if (across || stands_out_[i] == 0) return false;
+      if (across || stands_out_[i] == 0) {
+        return !across && lone_before_sky(cloud, first, last, i, after);
+      }
       i = across_edge(cloud, first, last, i, after, around);
       if (i == kNone) return false;  // the ring ends behind it
       across = true;
@@ -365,6 +389,22 @@ bool ColumnProfiles::hidden_by_object(const Cloud& cloud, Index first, Index las
   } while (farther(cloud.range_xy[i], r, across));
   return !close_in_range_and_height(cloud.range_xy[i] - r, cloud.z[i] - cloud.z[end],
                                     (across ? kEdgeMotionSlack : 1.f) * 2.f * run_gap(r));
+}
+
+// Whether return i, the ring's last before the frame's edge that the walk (`after`) meets,
+// lies under the sensor, continuous with neither neighbour, with the sky beyond it
+// (sky_columns or more without a return, across the edge too): a speck on an object's
+// edge, not the ring coming out from behind the object (slope_s6103 at 5 Hz: a return
+// 34.9 m out beside a box 30.2 m out at the frame's edge, the sky across the edge; at
+// Hi-Res, 32.9 m out beside one 29.9 m out). Met anywhere along the ring, such a return
+// may be terrain the ring came out on, a crest's top (crest_s605 at 20 Hz, hills_s904
+// tilted: F1 -0.00002 each); over the sensor, a hill's top 71 m out (bank_s5004 at 20 Hz).
+bool ColumnProfiles::lone_before_sky(const Cloud& cloud, Index first, Index last, Index i,
+                                     bool after) const {
+  if (cloud.z[i] >= p_.sensor_z) return false;
+  const bool lone =
+      (i == first || continuous_[i - 1] == 0) && (i + 1 >= last || continuous_[i] == 0);
+  return lone && beyond_end(cloud, first, last, i, after).gap >= p_.sky_columns;
 }
 
 // A fragment of a rotation going on from the previous frame (continues_previous): the

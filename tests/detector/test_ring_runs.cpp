@@ -725,10 +725,19 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
     int edge_returns = 0;  // returns 25 m out, level with the vehicle's ground, after the far box
     int level_past_box = 0;  // columns of level ground 29 m out right past the near box
     int sky_past_box = 0;    // columns without a return after those, before past_r
+    // Past the far box's open end (columns [beyond_from, 11], 60 m out): an object or the
+    // fields, this high (none when NaN).
+    float beyond_z = std::nanf("");
+    int beyond_from = 8;
+    bool beyond_face = false;  // ring 7 over them at their range: a face
   };
   const auto far_box_ground = [](const Ring6& ring6) {
     Scan s;
     add_level_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}, 61);
+    for (int col = ring6.beyond_from; col <= 11 && !std::isnan(ring6.beyond_z); ++col) {
+      add(s, 6, col, 60.f, ring6.beyond_z, 2);
+      if (ring6.beyond_face) add(s, 7, col, 60.f, ring6.beyond_z + 1.f, 2);
+    }
     const int far_end = 22 - ring6.edge_returns;
     for (int col = 15; col <= far_end; ++col) add(s, 6, col, 30.8f, ring6.far_z, 2);
     for (int col = far_end + 1; col <= 22; ++col) add(s, 6, col, 25.f, 0.f, 2);
@@ -738,8 +747,9 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
     for (int col = level_end + ring6.sky_past_box; col <= 60; ++col) {
       add(s, 6, col, ring6.past_r, ring6.past_z, 1);
     }
-    // The level-2 surface at z = 0.
-    return ground_on_ring(s, label(s, s.cloud.z).ground, 6, far_end + 1);
+    // The level-2 surface at z = 0. Ring 6's ground from column 12 on (past beyond_z's).
+    const auto ground = label(s, s.cloud.z).ground;
+    return ground_on_ring(s, ground, 6, far_end + 1) - ground_on_ring(s, ground, 6, 12);
   };
   CHECK(far_box_ground({}) == 0);
   // A lone return between the boxes (a pixel on the far box's edge, slope_s2405) that lies
@@ -763,6 +773,55 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
             {.past_r = 30.9f, .past_z = 0.25f, .level_past_box = 14, .sky_past_box = 4}) == 8);
   // Level with the ground under the vehicle: the road between two parked cars (jam).
   CHECK(far_box_ground({.far_z = 0.05f}) == 8);
+  // ... unless past its open end the ring meets an object far under it (standing out: 4 m
+  // wide, the sky at both ends): the terrain falls away there, out of the ring's reach, and
+  // the level run is an object's face (slope_s6103: a van 36.8 m out past a grade change).
+  CHECK(far_box_ground({.far_z = 0.05f, .beyond_z = -2.f}) == 0);
+  // Over the run's level (a drop of no more than drop_m) the ring does not fall away.
+  CHECK(far_box_ground({.far_z = 0.05f, .beyond_z = -0.4f}) == 8);
+  // The fields far below a road on an embankment, past a car on it: a long run taken as
+  // ground (embankment_s901 tilted), which the road goes on to.
+  CHECK(far_box_ground({.far_z = 0.05f, .beyond_z = -2.f, .beyond_from = 0}) == 8);
+  // A face there instead (ring 7 over it at its range), not taken as ground: an object, the
+  // terrain under it lower still.
+  CHECK(far_box_ground({.far_z = 0.05f, .beyond_z = -2.f, .beyond_from = 0, .beyond_face = true}) ==
+        0);
+}
+
+TEST_CASE("column profiles: past an object, a speck before the sky at the ring's end hides",
+          "[detector][profiles]") {
+  // Sim slope_s6103 at 5 Hz (frame 1): ring 6 meets a van 36.8 m out past a grade change
+  // (columns 13-20), beside a nearer box 30.2 m out (6-12, standing out), before which the
+  // ring's first return (column 5) is a speck 34.9 m out on an edge, the sky before it
+  // (the frame's edge). Past the van the sky, then the slope's objects 60 m out. Rings 0-5
+  // see the vehicle's plateau to 20 m.
+  struct Speck {
+    bool second = false;         // a second return beside the speck, continuous with it
+    bool return_before = false;  // a return 25 m out two columns before the speck
+  };
+  const auto van_ground = [](const Speck& speck) {
+    Scan s;
+    add_level_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}, 61);
+    if (speck.return_before) add(s, 6, 2, 25.f, 0.6f, 2);
+    if (speck.second) add(s, 6, 4, 34.9f, 0.11f, 2);
+    add(s, 6, 5, 34.9f, 0.11f, 2);
+    for (int col = 6; col <= 12; ++col) add(s, 6, col, 30.2f, 0.35f, 2);
+    for (int col = 13; col <= 20; ++col) add(s, 6, col, 36.8f, 0.24f, 2);
+    for (int col = 26; col <= 60; ++col) add(s, 6, col, 60.f, -2.f, 2);
+    const auto ground = label(s, s.cloud.z).ground;  // the level-2 surface on every return
+    int van = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      const int col = s.cloud.column[i];
+      van += s.cloud.ring[i] == 6 && col >= 13 && col <= 20 ? ground[i] : 0;
+    }
+    return van;
+  };
+  // Passing the box, the ring ends at the speck: it did not come out from behind the box.
+  CHECK(van_ground({}) == 0);
+  // Two returns going on there: the ring came out, the van's ground goes on behind the box.
+  CHECK(van_ground({.second = true}) == 8);
+  // Two columns without a return before the speck are a drop-out, not the sky.
+  CHECK(van_ground({.return_before = true}) == 8);
 }
 
 TEST_CASE("column profiles: a chain of hidden runs stands out however long",
