@@ -251,8 +251,8 @@ bool ColumnProfiles::face_over_line(const Cloud& cloud, const RingRun& first,
 // bank's top, 17 -> 23 m out between two bushes). A run with a return level with the ground
 // under the vehicle stays: the road between two parked cars, joined by the ring to the
 // lower one's side (jam), unless the ring past its open end falls away onto an object far
-// under it (falls_away_past). Marked again while runs are added, until none is: each one found
-// may hide the next, and chains run long (cars one behind the other down a ramp, an
+// under it (falls_away_past). Marked again while runs are added, until none is: each one
+// found may hide the next, and chains run long (cars one behind the other down a ramp, an
 // object's edge stepping back column by column, each step a run of its own). A mark only
 // helps hide another run, so the marks found do not depend on the order; the passes
 // alternate direction along the rings so that a chain either way takes few. Only with the
@@ -296,13 +296,13 @@ bool ColumnProfiles::hidden_run(const Cloud& cloud, const RingRun& run) const {
 }
 
 // Whether the ring past run end `end` (its return `beyond`) meets an object more than
-// drop_m under it: a return the column walk did not take as ground, or
-// one standing out. The terrain under that object lies lower still, out of the ring's
-// reach: a run level with the vehicle's ground there is no road going on but an object's
-// face the ring met at its level-ground range, past a grade change where the slope falls
-// away (slope_s6103: ring 6 on a van 36.8 m out, 1.4 m over the slope, beside a nearer box;
-// past the van the sky, then an object 3.2 m tall 58 m out). The road beside a car on an
-// embankment meets the fields far below past it, taken as ground (embankment_s901 tilted).
+// drop_m under it: a return the column walk did not take as ground, or one standing out.
+// The terrain under that object lies lower still, out of the ring's reach: a run level
+// with the vehicle's ground there is no road going on but an object's face the ring met at
+// its level-ground range, past a grade change where the slope falls away (slope_s6103:
+// ring 6 on a van 36.8 m out, 1.4 m over the slope, beside a nearer box; past the van the
+// sky, then an object 3.2 m tall 58 m out). The road beside a car on an embankment meets
+// the fields far below past it, taken as ground (embankment_s901 tilted).
 bool ColumnProfiles::falls_away_past(const Cloud& cloud, Index end,
                                      const RingBeyond& beyond) const {
   if (beyond.index == kNone) return false;
