@@ -517,6 +517,10 @@ class ColumnProfiles {
                                         std::size_t& keep_b) const;
   // Whether return i (cloud index, strongest layer) is ground by the walk, not dropped since.
   [[nodiscard]] bool taken(std::size_t i) const { return points_[position_[i]].ground != 0; }
+  // Whether cloud return i is its column's first point (the lowest ring there, in walking order).
+  [[nodiscard]] bool first_in_column(const Cloud& cloud, std::size_t i) const {
+    return position_[i] == column_start_[cloud.column[i]];
+  }
   void drop_run(const RingRun& run, std::size_t keep_a, std::size_t keep_b);
   void drop_all_but_road_through_gaps(const Cloud& cloud, const RingRun& run);
   [[nodiscard]] bool steps_back(const Cloud& cloud, std::size_t near, std::size_t far) const;

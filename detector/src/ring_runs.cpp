@@ -307,8 +307,7 @@ bool ColumnProfiles::falls_away_past(const Cloud& cloud, Index end,
                                      const RingBeyond& beyond) const {
   if (beyond.index == kNone) return false;
   const Index k = beyond.index;
-  return cloud.z[end] - cloud.z[k] > p_.drop_m &&
-         (points_[position_[k]].ground == 0 || stands_out_[k] != 0);
+  return cloud.z[end] - cloud.z[k] > p_.drop_m && (!taken(k) || stands_out_[k] != 0);
 }
 
 // Whether run `run`'s returns lie within one run gap in range of its nearest.
@@ -594,10 +593,7 @@ void ColumnProfiles::drop_all_but_road_through_gaps(const Cloud& cloud, const Ri
   // goes on from the vehicle's ground, not from a lower ring's road.
   const auto level_road = [&](Index i) {
     if (!taken(i)) return false;
-    const Index k = position_[i];
-    if (k == column_start_[cloud.column[i]]) {
-      return std::abs(cloud.z[i] - start_z_) <= p_.whole_run_level_m;
-    }
+    if (first_in_column(cloud, i)) return std::abs(cloud.z[i] - start_z_) <= p_.whole_run_level_m;
     return goes_on_from_road(cloud, i, p_.whole_run_level_m, p_.gap_road_reach_m);
   };
   Index i = run.a;
@@ -620,9 +616,8 @@ void ColumnProfiles::drop_all_but_road_through_gaps(const Cloud& cloud, const Ri
 // with the start (vehicle_ground), or the road going on from a lower ring's return there that
 // does not stand out (road_beyond); in either case within level_m in height of it.
 bool ColumnProfiles::carries_vehicle_road(const Cloud& cloud, Index i, float level_m) const {
-  const Index k = position_[i];
-  if (k == column_start_[cloud.column[i]]) {
-    return points_[k].vehicle_ground != 0 && std::abs(cloud.z[i] - start_z_) <= level_m;
+  if (first_in_column(cloud, i)) {
+    return points_[position_[i]].vehicle_ground != 0 && std::abs(cloud.z[i] - start_z_) <= level_m;
   }
   return goes_on_from_road(cloud, i, level_m, std::numeric_limits<float>::max());
 }
