@@ -440,6 +440,10 @@ class ColumnProfiles {
   [[nodiscard]] FaceHeight face_height(const Cloud& cloud, std::size_t k) const;
   void mark_broken_silhouettes(const Cloud& cloud);
   void mark_chained_silhouettes(const Cloud& cloud);
+  void mark_silhouettes_across_objects(const Cloud& cloud);
+  [[nodiscard]] std::size_t run_past_object(const Cloud& cloud, std::size_t i) const;
+  [[nodiscard]] bool stands_out_across_object(const Cloud& cloud, const RingRun& one,
+                                              const RingRun& two) const;
   [[nodiscard]] bool joined_across_small_cut(const Cloud& cloud, std::size_t i) const;
   [[nodiscard]] bool runs_raised(std::size_t i, std::size_t j) const;
   [[nodiscard]] bool face_over_line(const Cloud& cloud, const RingRun& first,

@@ -788,6 +788,48 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
         0);
 }
 
+TEST_CASE("column profiles: a short ring line an object in front cuts in two stands out whole",
+          "[detector][profiles]") {
+  // Sim bank_s6401 tilted (frame 3): ring 9 meets an object 1.1 m tall 29-32 m out, cut by
+  // a low object 16.9 m out (standing out), the sky on both sides. Here rings 0-5 see the
+  // vehicle's plateau (or a hill climbing at 0.1) to 20 m; ring 6 meets the line in columns
+  // 15-18 and 22-`two_end`, the object in front 16 m out in 19-21.
+  struct Line {
+    float r = 30.8f;
+    float z = 0.24f;  // over level ground (on the hill: on it)
+    bool hill = false;
+    int two_end = 25;      // 25: 5.4 m long in all
+    int before_from = 15;  // the ring's returns `before_r` out from this column to 14
+    float before_r = 34.f;
+  };
+  const auto line_ground = [](const Line& line) {
+    const auto hill = [](float r) { return 0.1f * (r - 4.f); };
+    Scan s;
+    const auto level = [](float) { return 0.f; };
+    const bool on_hill = line.hill;
+    add_ground_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}, 61, on_hill ? +hill : +level);
+    const float z = line.hill ? hill(line.r) : line.z;
+    for (int col = line.before_from; col < 15; ++col) add(s, 6, col, line.before_r, z, 2);
+    for (int col = 15; col <= 18; ++col) add(s, 6, col, line.r, z, 2);
+    for (int col = 19; col <= 21; ++col) add(s, 6, col, 16.f, z + 1.f, 2);
+    for (int col = 22; col <= line.two_end; ++col) add(s, 6, col, line.r, z, 2);
+    const auto ground = label(s, s.cloud.z).ground;  // the level-2 surface on every return
+    return ground_on_ring(s, ground, 6, 61) - ground_on_ring(s, ground, 6, 15);
+  };
+  CHECK(line_ground({}) == 0);
+  // Longer than a silhouette (8.6 m): the ring's line going on behind the object.
+  CHECK(line_ground({.two_end = 30}) == 13);
+  // Where the ring goes on farther at an end (2 m, not the sky), terrain may: between tree
+  // trunks (hills_s803 tilted).
+  CHECK(line_ground({.before_from = 0}) == 8);
+  // Level with the vehicle's ground: the road between parked cars (jam_s1003).
+  CHECK(line_ground({.z = 0.05f}) == 8);
+  // Over the sensor: an object far past the ring below's ground (37 m, ring 5's 20 m).
+  CHECK(line_ground({.r = 37.f, .hill = true, .two_end = 24}) == 0);
+  // Less than 1.5 times as far (28 m): a hill's top past a tree (hills_s501 tilted).
+  CHECK(line_ground({.r = 28.f, .hill = true, .two_end = 24}) == 7);
+}
+
 TEST_CASE("column profiles: past an object, a speck before the sky at the ring's end hides",
           "[detector][profiles]") {
   // Sim slope_s6103 at 5 Hz (frame 1): ring 6 meets a van 36.8 m out past a grade change
