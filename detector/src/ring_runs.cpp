@@ -199,11 +199,12 @@ void ColumnProfiles::mark_chained_silhouettes(const Cloud& cloud) {
 void ColumnProfiles::mark_silhouettes_across_objects(const Cloud& cloud) {
   if (p_.sensor_z <= 0.f) return;
   for (std::size_t i = 0; i + 2 < runs_.size(); ++i) {
+    if (stands_out_[runs_[i + 1].a] == 0) continue;  // no object after run i
     const std::size_t j = run_past_object(cloud, i);
     if (j == kNoRun) continue;
     const RingRun &one = runs_[i], &two = runs_[j];
-    if (level_with_start(one) || level_with_start(two) ||
-        !stands_out_across_object(cloud, one, two)) {
+    if (!stands_out_across_object(cloud, one, two) || level_with_start(one) ||
+        level_with_start(two)) {
       continue;
     }
     mark_standing_out(one);
@@ -225,6 +226,10 @@ std::size_t ColumnProfiles::run_past_object(const Cloud& cloud, std::size_t i) c
   }
   const Index start = runs_[j].a;
   const float* const range = cloud.range_xy.data();
+  if (!close_in_range_and_height(range[start] - range[one.b], cloud.z[start] - cloud.z[one.b],
+                                 2.f * run_gap(range[one.b]))) {
+    return kNoRun;
+  }
   const float cut_m = std::min(range[one.b], range[start]);
   for (Index k = one.b + 1; k <= start; ++k) {
     if ((k < start && !farther(range[k], cut_m)) ||
@@ -232,9 +237,7 @@ std::size_t ColumnProfiles::run_past_object(const Cloud& cloud, std::size_t i) c
       return kNoRun;
     }
   }
-  const bool goes_on = close_in_range_and_height(
-      range[start] - range[one.b], cloud.z[start] - cloud.z[one.b], 2.f * run_gap(range[one.b]));
-  return goes_on ? j : kNoRun;
+  return j;
 }
 
 // Whether the ring line from run `one` across an object to run `two` is a silhouette: at
