@@ -256,6 +256,7 @@ bool ColumnProfiles::stands_out_across_object(const Cloud& cloud, const RingRun&
   for (const Index end : {one.a, two.b}) {
     if (cloud.z[end] > p_.sensor_z && !far_past_lower_ground(cloud, end)) return false;
   }
+  // Not apart: stands_out would also take a wider silhouette (wide_silhouette).
   return !apart(cloud, one.a, two.b, p_.silhouette_max_m) && outer_end_sky(cloud, one, false) &&
          outer_end_sky(cloud, two, true) && stands_out(cloud, one.first, one.last, one.a, two.b);
 }
