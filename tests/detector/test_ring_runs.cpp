@@ -793,12 +793,15 @@ TEST_CASE("column profiles: a short ring line an object in front cuts in two sta
   // Sim bank_s6401 tilted (frame 3): ring 9 meets an object 1.1 m tall 29-32 m out, cut by
   // a low object 16.9 m out (standing out), the sky on both sides. Here rings 0-5 see the
   // vehicle's plateau (or a hill climbing at 0.1) to 20 m; ring 6 meets the line in columns
-  // 15-18 and 22-`two_end`, the object in front 16 m out in 19-21.
+  // `one_from`-18 and from the object's end to `two_end`, the object in front 16 m out in
+  // 19-21 (`object_columns` from 19).
   struct Line {
     float r = 30.8f;
     float z = 0.24f;  // over level ground (on the hill: on it)
     bool hill = false;
     int two_end = 25;      // 25: 5.4 m long in all
+    int one_from = 15;
+    int object_columns = 3;
     int before_from = 15;  // the ring's returns `before_r` out from this column to 14
     float before_r = 34.f;
   };
@@ -810,9 +813,10 @@ TEST_CASE("column profiles: a short ring line an object in front cuts in two sta
     add_ground_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}, 61, on_hill ? +hill : +level);
     const float z = line.hill ? hill(line.r) : line.z;
     for (int col = line.before_from; col < 15; ++col) add(s, 6, col, line.before_r, z, 2);
-    for (int col = 15; col <= 18; ++col) add(s, 6, col, line.r, z, 2);
-    for (int col = 19; col <= 21; ++col) add(s, 6, col, 16.f, z + 1.f, 2);
-    for (int col = 22; col <= line.two_end; ++col) add(s, 6, col, line.r, z, 2);
+    for (int col = line.one_from; col <= 18; ++col) add(s, 6, col, line.r, z, 2);
+    const int two_from = 19 + line.object_columns;
+    for (int col = 19; col < two_from; ++col) add(s, 6, col, 16.f, z + 1.f, 2);
+    for (int col = two_from; col <= line.two_end; ++col) add(s, 6, col, line.r, z, 2);
     const auto ground = label(s, s.cloud.z).ground;  // the level-2 surface on every return
     return ground_on_ring(s, ground, 6, 61) - ground_on_ring(s, ground, 6, 15);
   };
@@ -828,6 +832,17 @@ TEST_CASE("column profiles: a short ring line an object in front cuts in two sta
   CHECK(line_ground({.r = 37.f, .hill = true, .two_end = 24}) == 0);
   // Less than 1.5 times as far (28 m): a hill's top past a tree (hills_s501 tilted).
   CHECK(line_ground({.r = 28.f, .hill = true, .two_end = 24}) == 7);
+  // Within wide_silhouette_range_m (50 m) only: past it, far hill tops against the sky
+  // (bank_s5004 at 20 Hz, ring 9 76 m out). A line of 6 columns, 3.9 and 4.8 m long.
+  const Line narrow{.two_end = 22, .one_from = 17, .object_columns = 2};
+  CHECK(line_ground({.r = 45.f,
+                     .two_end = narrow.two_end,
+                     .one_from = narrow.one_from,
+                     .object_columns = narrow.object_columns}) == 0);
+  CHECK(line_ground({.r = 55.f,
+                     .two_end = narrow.two_end,
+                     .one_from = narrow.one_from,
+                     .object_columns = narrow.object_columns}) == 4);
 }
 
 TEST_CASE("column profiles: past an object, a speck before the sky at the ring's end hides",
