@@ -241,13 +241,13 @@ std::size_t ColumnProfiles::run_past_object(const Cloud& cloud, std::size_t i) c
 }
 
 // Whether the ring line from run `one` across an object to run `two` is a silhouette: at
-// most silhouette_max_m long with the sky at both outer ends (stands_out), its ends and the
-// cut within wide_silhouette_range_m, and each outer end over the sensor far past its
-// column's ground return of the ring below (far_past_lower_ground). The guards come from
-// the tuning set: far hill tops against the sky (bank_s5004 at 20 Hz: ring 9 76 m out); a
-// hill's top 32-34 m out past ring 10's ground 23 m out, behind a tree (hills_s501 tilted);
-// terrain between tree trunks, where an end opening onto a farther return is the ring going
-// on 0.8 m farther (hills_s803 tilted).
+// most silhouette_max_m long with the sky at both outer ends, turning less than half a turn
+// round the sensor (as stands_out asks), its ends and the cut within wide_silhouette_range_m, and
+// each outer end over the sensor far past its column's ground return of the ring below
+// (far_past_lower_ground). The guards come from the tuning set: far hill tops against the sky
+// (bank_s5004 at 20 Hz: ring 9 76 m out); a hill's top 32-34 m out past ring 10's ground 23 m out,
+// behind a tree (hills_s501 tilted); terrain between tree trunks, where an end opening onto a
+// farther return is the ring going on 0.8 m farther (hills_s803 tilted).
 bool ColumnProfiles::stands_out_across_object(const Cloud& cloud, const RingRun& one,
                                               const RingRun& two) const {
   for (const Index end : {one.a, one.b, two.b}) {
@@ -256,9 +256,8 @@ bool ColumnProfiles::stands_out_across_object(const Cloud& cloud, const RingRun&
   for (const Index end : {one.a, two.b}) {
     if (cloud.z[end] > p_.sensor_z && !far_past_lower_ground(cloud, end)) return false;
   }
-  // Not apart: stands_out would also take a wider silhouette (wide_silhouette).
   return !apart(cloud, one.a, two.b, p_.silhouette_max_m) && outer_end_sky(cloud, one, false) &&
-         outer_end_sky(cloud, two, true) && stands_out(cloud, one.first, one.last, one.a, two.b);
+         outer_end_sky(cloud, two, true) && turns_under_half(cloud, one.a, two.b);
 }
 
 // Whether run i and the ring's next run (on the same side of the frame's edge), both under
