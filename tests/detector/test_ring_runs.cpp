@@ -804,21 +804,27 @@ TEST_CASE("column profiles: a short ring line an object in front cuts in two sta
     int object_columns = 3;
     int before_from = 15;  // the ring's returns `before_r` out from this column to 14
     float before_r = 34.f;
+    int after_to = 0;  // ... and after `two_end` to this column
   };
   const auto line_ground = [](const Line& line) {
     const auto hill = [](float r) { return 0.1f * (r - 4.f); };
     Scan s;
-    const auto level = [](float) { return 0.f; };
-    const bool on_hill = line.hill;
-    add_ground_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}, 61, on_hill ? +hill : +level);
+    if (line.hill) {
+      add_ground_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}, 61, hill);
+    } else {
+      add_level_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}, 61);
+    }
     const float z = line.hill ? hill(line.r) : line.z;
     for (int col = line.before_from; col < 15; ++col) add(s, 6, col, line.before_r, z, 2);
     for (int col = line.one_from; col <= 18; ++col) add(s, 6, col, line.r, z, 2);
     const int two_from = 19 + line.object_columns;
     for (int col = 19; col < two_from; ++col) add(s, 6, col, 16.f, z + 1.f, 2);
     for (int col = two_from; col <= line.two_end; ++col) add(s, 6, col, line.r, z, 2);
+    for (int col = line.two_end + 1; col <= line.after_to; ++col) {
+      add(s, 6, col, line.before_r, z, 2);
+    }
     const auto ground = label(s, s.cloud.z).ground;  // the level-2 surface on every return
-    return ground_on_ring(s, ground, 6, 61) - ground_on_ring(s, ground, 6, 15);
+    return ground_on_ring(s, ground, 6, line.two_end + 1) - ground_on_ring(s, ground, 6, 15);
   };
   CHECK(line_ground({}) == 0);
   // Longer than a silhouette (8.6 m): the ring's line going on behind the object.
@@ -826,6 +832,7 @@ TEST_CASE("column profiles: a short ring line an object in front cuts in two sta
   // Where the ring goes on farther at an end (2 m, not the sky), terrain may: between tree
   // trunks (hills_s803 tilted).
   CHECK(line_ground({.before_from = 0}) == 8);
+  CHECK(line_ground({.after_to = 40}) == 8);
   // Level with the vehicle's ground: the road between parked cars (jam_s1003).
   CHECK(line_ground({.z = 0.05f}) == 8);
   // Over the sensor: an object far past the ring below's ground (37 m, ring 5's 20 m).
@@ -834,15 +841,11 @@ TEST_CASE("column profiles: a short ring line an object in front cuts in two sta
   CHECK(line_ground({.r = 28.f, .hill = true, .two_end = 24}) == 7);
   // Within wide_silhouette_range_m (50 m) only: past it, far hill tops against the sky
   // (bank_s5004 at 20 Hz, ring 9 76 m out). A line of 6 columns, 3.9 and 4.8 m long.
-  const Line narrow{.two_end = 22, .one_from = 17, .object_columns = 2};
-  CHECK(line_ground({.r = 45.f,
-                     .two_end = narrow.two_end,
-                     .one_from = narrow.one_from,
-                     .object_columns = narrow.object_columns}) == 0);
-  CHECK(line_ground({.r = 55.f,
-                     .two_end = narrow.two_end,
-                     .one_from = narrow.one_from,
-                     .object_columns = narrow.object_columns}) == 4);
+  Line narrow{.two_end = 22, .one_from = 17, .object_columns = 2};
+  narrow.r = 45.f;
+  CHECK(line_ground(narrow) == 0);
+  narrow.r = 55.f;
+  CHECK(line_ground(narrow) == 4);
 }
 
 TEST_CASE("column profiles: past an object, a speck before the sky at the ring's end hides",
