@@ -450,6 +450,8 @@ class ColumnProfiles {
                                     const RingRun& last) const;
   void mark_hidden_silhouettes(const Cloud& cloud);
   [[nodiscard]] bool hidden_run(const Cloud& cloud, const RingRun& run) const;
+  [[nodiscard]] bool falls_out_of_reach_past(const Cloud& cloud, const RingRun& run,
+                                             std::size_t end, const RingBeyond& beyond) const;
   [[nodiscard]] bool at_one_range(const Cloud& cloud, const RingRun& run) const;
   [[nodiscard]] bool at_one_range(const Cloud& cloud, std::size_t a, std::size_t b) const;
   [[nodiscard]] bool level_with_start(const RingRun& run) const;

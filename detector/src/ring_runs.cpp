@@ -366,8 +366,10 @@ bool ColumnProfiles::hidden_run(const Cloud& cloud, const RingRun& run) const {
                       hidden_by_object(cloud, run.first, run.last, run.a, before, false);
   if (!open_a && !open_b) return false;
   // Walked only for a hidden run.
-  return !level_with_start(run) ||
-         falls_away_past(cloud, open_a ? run.a : run.b, open_a ? before : after);
+  const Index open_end = open_a ? run.a : run.b;
+  const RingBeyond& open_beyond = open_a ? before : after;
+  return !level_with_start(run) || falls_away_past(cloud, open_end, open_beyond) ||
+         falls_out_of_reach_past(cloud, run, open_end, open_beyond);
 }
 
 // Whether the ring past run end `end` (its return `beyond`) meets an object more than
@@ -383,6 +385,22 @@ bool ColumnProfiles::falls_away_past(const Cloud& cloud, Index end,
   if (beyond.index == kNone) return false;
   const Index k = beyond.index;
   return cloud.z[end] - cloud.z[k] > p_.drop_m && (!taken(k) || stands_out_[k] != 0);
+}
+
+// Whether the ring past run end `end` (its return `beyond`) goes to the sky over at least
+// twice sky_columns and then meets a return lower than `end`, the run lying at one range
+// (at_one_range): a falling ray meeting nothing over a stretch, the terrain past it fell out
+// of the ring's reach, and a level run is an object's face met at the ring's level-ground
+// range past a grade change (slope_s6603: ring 6 on an object 36 m out, 0.77 m over the
+// slope, a nearer box at its other end; past it the sky over 189 columns, then the slope
+// 0.32 m lower 42 m out, no object that falls_away_past would ask for). Terrain seen by the
+// ring to where it falls away recedes towards the sky (hills_s903 at 5 Hz: a hillside 33.8
+// -> 36.3 m out, the sky over 28 columns, the hill 0.35 m lower past it), and a drop-out
+// of a few columns is no sky to go by.
+bool ColumnProfiles::falls_out_of_reach_past(const Cloud& cloud, const RingRun& run, Index end,
+                                             const RingBeyond& beyond) const {
+  return beyond.index != kNone && beyond.gap >= 2 * p_.sky_columns &&
+         cloud.z[beyond.index] < cloud.z[end] && at_one_range(cloud, run);
 }
 
 // Whether run `run`'s returns lie within one run gap in range of its nearest.

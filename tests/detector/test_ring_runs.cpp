@@ -728,18 +728,24 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
     // Past the far box's open end (columns [beyond_from, 11], 60 m out): an object or the
     // fields, this high (none when NaN).
     float beyond_z = std::nanf("");
+    float beyond_r = 60.f;
     int beyond_from = 8;
+    int beyond_to = 11;
     bool beyond_face = false;  // ring 7 over them at their range: a face
+    float far_step_m = 0.f;    // the far box's range grows by this per column towards column 15
   };
   const auto far_box_ground = [](const Ring6& ring6) {
     Scan s;
     add_level_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}, 61);
-    for (int col = ring6.beyond_from; col <= 11 && !std::isnan(ring6.beyond_z); ++col) {
-      add(s, 6, col, 60.f, ring6.beyond_z, 2);
+    for (int col = ring6.beyond_from; col <= ring6.beyond_to && !std::isnan(ring6.beyond_z);
+         ++col) {
+      add(s, 6, col, ring6.beyond_r, ring6.beyond_z, 2);
       if (ring6.beyond_face) add(s, 7, col, 60.f, ring6.beyond_z + 1.f, 2);
     }
     const int far_end = 22 - ring6.edge_returns;
-    for (int col = 15; col <= far_end; ++col) add(s, 6, col, 30.8f, ring6.far_z, 2);
+    for (int col = 15; col <= far_end; ++col) {
+      add(s, 6, col, 30.8f + ring6.far_step_m * static_cast<float>(far_end - col), ring6.far_z, 2);
+    }
     for (int col = far_end + 1; col <= 22; ++col) add(s, 6, col, 25.f, 0.f, 2);
     for (int col = 24; col <= 38; ++col) add(s, 6, col, 16.f, 1.f, 2);
     const int level_end = 39 + ring6.level_past_box;
@@ -771,8 +777,13 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
   // nothing of the far box, and the ring came out where it went in (hills_s5 at 20 Hz).
   CHECK(far_box_ground(
             {.past_r = 30.9f, .past_z = 0.25f, .level_past_box = 14, .sky_past_box = 4}) == 8);
-  // Level with the ground under the vehicle: the road between two parked cars (jam).
-  CHECK(far_box_ground({.far_z = 0.05f}) == 8);
+  // Level with the ground under the vehicle: the road between two parked cars (jam), the
+  // ring going on along the road past the farther car's end (2 road returns counted too).
+  CHECK(far_box_ground({.far_z = 0.05f,
+                        .beyond_z = 0.f,
+                        .beyond_r = 33.f,
+                        .beyond_from = 0,
+                        .beyond_to = 13}) == 10);
   // ... unless past its open end the ring meets an object far under it (standing out: 4 m
   // wide, the sky at both ends): the terrain falls away there, out of the ring's reach, and
   // the level run is an object's face (slope_s6103: a van 36.8 m out past a grade change).
@@ -786,6 +797,21 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
   // terrain under it lower still.
   CHECK(far_box_ground({.far_z = 0.05f, .beyond_z = -2.f, .beyond_from = 0, .beyond_face = true}) ==
         0);
+  // Past its open end, the sky over at least twice sky_columns and then the ring lower than
+  // the run, however little: the terrain fell out of the ring's reach there, and a level run
+  // at one range is an object's face (slope_s6603: ring 6 on an object 36 m out, 0.77 m over
+  // the slope, the sky over 189 columns past it, then the slope 0.32 m lower 42 m out).
+  CHECK(far_box_ground({.far_z = 0.05f, .beyond_z = -0.4f, .beyond_from = 0, .beyond_to = 8}) == 0);
+  // Not past a narrower sky (a drop-out), nor where the ring comes back higher ...
+  CHECK(far_box_ground({.far_z = 0.05f, .beyond_z = -0.4f, .beyond_from = 0, .beyond_to = 9}) == 8);
+  CHECK(far_box_ground({.far_z = 0.05f, .beyond_z = 0.1f, .beyond_from = 0, .beyond_to = 8}) == 8);
+  // ... nor where the run recedes towards the sky: the terrain falling away there itself,
+  // seen by the ring to its edge (hills_s903 at 5 Hz: 33.8 -> 36.3 m out).
+  CHECK(far_box_ground({.far_z = 0.05f,
+                        .beyond_z = -0.4f,
+                        .beyond_from = 0,
+                        .beyond_to = 8,
+                        .far_step_m = 0.25f}) == 8);
 }
 
 TEST_CASE("column profiles: a short ring line an object in front cuts in two stands out whole",
