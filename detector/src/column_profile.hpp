@@ -446,6 +446,8 @@ class ColumnProfiles {
                                               const RingRun& two) const;
   [[nodiscard]] bool joined_across_small_cut(const Cloud& cloud, std::size_t i) const;
   [[nodiscard]] bool runs_raised(std::size_t i, std::size_t j) const;
+  [[nodiscard]] bool sky_past_both_ends(const Cloud& cloud, const RingRun& first,
+                                        const RingRun& last) const;
   [[nodiscard]] bool face_over_line(const Cloud& cloud, const RingRun& first,
                                     const RingRun& last) const;
   void mark_hidden_silhouettes(const Cloud& cloud);

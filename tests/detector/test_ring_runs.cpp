@@ -1032,16 +1032,29 @@ TEST_CASE("column profiles: a ring line small cuts broke into parts stands out w
     float over_level2 = 2.3f;   // the crown's height over the level-2 surface
     bool nearer_after = false;  // the ring goes on nearer past the crown, not to the sky
     enum { kSky, kFace, kLevel, kFarther } above = kSky;  // ring 7 in the crown's columns
+    // Ring 6 past the sky at the line's ends (`past_sky` columns without a return, on one
+    // side or both): 5 returns this far out and this high (none when NaN).
+    float past_r = std::nanf("");
+    float past_z = 0.f;
+    int past_sky = 3;
+    bool past_both = true;
   };
   const auto crown_ground = [](const Crown& crown) {
     Scan s;
     add_level_rings(s, {6.f, 8.f, 10.f, 12.5f, 15.f, 20.f}, 61);
+    // Ring 6 past the sky before the crown, in column order as a scan gives them.
+    for (int n = 0; n < 5 && !std::isnan(crown.past_r); ++n) {
+      add(s, 6, 15 - crown.past_sky + n, crown.past_r, crown.past_z, 1);
+    }
     int col = 20;  // the crown 0.1 m over the ground ring 5 meets: three parts of 3 columns
     for (int part = 0; part < 3; ++part, col += crown.dropped) {
       const float range = 27.f - crown.step_in_m * static_cast<float>(part);
       for (int n = 0; n < 3; ++n, ++col) add(s, 6, col, range, 0.1f, 2);
     }
     const int crown_last = col - crown.dropped - 1;
+    for (int n = 0; n < 5 && !std::isnan(crown.past_r) && crown.past_both; ++n) {
+      add(s, 6, crown_last + 1 + crown.past_sky + n, crown.past_r, crown.past_z, 1);
+    }
     if (crown.nearer_after) {
       for (col = crown_last + 2; col <= 60; ++col) add(s, 6, col, 20.f, 0.1f, 1);
     }
@@ -1057,7 +1070,8 @@ TEST_CASE("column profiles: a ring line small cuts broke into parts stands out w
     const auto ground = label(s, level2).ground;
     int taken = 0;
     for (std::size_t i = 0; i < ground.size(); ++i) {
-      taken += s.cloud.ring[i] == 6 && s.cloud.column[i] <= crown_last ? ground[i] : 0;
+      const int c = s.cloud.column[i];
+      taken += s.cloud.ring[i] == 6 && c >= 20 && c <= crown_last ? ground[i] : 0;
     }
     return taken;
   };
@@ -1078,4 +1092,17 @@ TEST_CASE("column profiles: a ring line small cuts broke into parts stands out w
   CHECK(crown_ground({.step_in_m = 1.2f, .dropped = 0}) == 6);
   // Closed at one outer end (the ring goes on nearer past it): no silhouette.
   CHECK(crown_ground({.nearer_after = true}) == 9);
+  // On the level-2 surface, the sky past both ends and then the ring farther on both sides
+  // (or far under the line): under the sensor a falling ray meets nothing only past terrain
+  // falling out of its reach, so the line stands alone (hills_s6505: ring 2 on an object 16 m
+  // out on a hillside steepening downwards, past the sky 17.5 m and 47 m out).
+  CHECK(crown_ground({.over_level2 = 0.1f, .past_r = 45.f, .past_z = -0.3f}) == 0);
+  CHECK(crown_ground({.over_level2 = 0.1f, .past_r = 27.1f, .past_z = -0.5f}) == 0);
+  // The ring back at the line's range and height past a drop-out (dark ground) ...
+  CHECK(crown_ground({.over_level2 = 0.1f, .past_r = 27.1f, .past_z = 0.1f}) == 9);
+  // ... farther on one side only (the data ending on the other) ...
+  CHECK(crown_ground({.over_level2 = 0.1f, .past_r = 45.f, .past_z = -0.3f, .past_both = false}) ==
+        9);
+  // ... or farther with no sky between: the line's ends open onto the terrain going on.
+  CHECK(crown_ground({.over_level2 = 0.1f, .past_r = 45.f, .past_z = -0.3f, .past_sky = 0}) == 9);
 }
