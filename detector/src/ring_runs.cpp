@@ -162,9 +162,9 @@ void ColumnProfiles::mark_broken_silhouettes(const Cloud& cloud) {
 // at most silhouette_max_m long and open at both outer ends (the sky or farther returns),
 // and either every part more than single_rise_m over the level-2 surface at both its ends
 // or the next ring up meeting the line's own face over it and nothing farther
-// (face_over_line: where the level-2 surface lies on the crowns, hills_s2104), or the sky
-// past both outer ends (sky_past_both_ends). Tree crowns
-// over a valley past a crest, level with the vehicle's ground (hills_s1005, hills_s1301,
+// (face_over_line: where the level-2 surface lies on the crowns, hills_s2104), or the ring
+// falling out of reach past both outer ends (sky_past_both_ends). Tree crowns over a valley
+// past a crest, level with the vehicle's ground (hills_s1005, hills_s1301,
 // hills_s2104): no part stands out alone or meets the sky where it is cut. Without the
 // dropped column, the ground on a bank's top behind bushes, cut only by their steps in
 // range, stood out (bank_s1505 at 5 Hz: F1 -0.0034). With neither of the last two checks,
@@ -289,7 +289,7 @@ bool ColumnProfiles::sky_past_both_ends(const Cloud& cloud, const RingRun& first
                                         const RingRun& last) const {
   if (p_.sensor_z <= 0.f) return false;
   const auto falls_out = [&](Index end, bool after) {
-    const RingBeyond beyond = beyond_end(cloud, first.first, first.last, end, after);
+    const RingBeyond beyond = beyond_end(cloud, last.first, last.last, end, after);  // one ring
     return beyond.gap >= p_.sky_columns && beyond.index != kNone &&
            (farther(cloud.range_xy[end], cloud.range_xy[beyond.index], beyond.across) ||
             cloud.z[end] - cloud.z[beyond.index] > p_.drop_m);

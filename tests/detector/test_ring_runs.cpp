@@ -725,8 +725,8 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
     int edge_returns = 0;  // returns 25 m out, level with the vehicle's ground, after the far box
     int level_past_box = 0;  // columns of level ground 29 m out right past the near box
     int sky_past_box = 0;    // columns without a return after those, before past_r
-    // Past the far box's open end (columns [beyond_from, 11], 60 m out): an object or the
-    // fields, this high (none when NaN).
+    // Past the far box's open end (columns [beyond_from, beyond_to], beyond_r out): an
+    // object, the fields or the road going on, this high (none when NaN).
     float beyond_z = std::nanf("");
     float beyond_r = 60.f;
     int beyond_from = 8;
