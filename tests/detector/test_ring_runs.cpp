@@ -740,7 +740,7 @@ TEST_CASE("column profiles: a short run hidden at one end by an object in front 
     for (int col = ring6.beyond_from; col <= ring6.beyond_to && !std::isnan(ring6.beyond_z);
          ++col) {
       add(s, 6, col, ring6.beyond_r, ring6.beyond_z, 2);
-      if (ring6.beyond_face) add(s, 7, col, 60.f, ring6.beyond_z + 1.f, 2);
+      if (ring6.beyond_face) add(s, 7, col, ring6.beyond_r, ring6.beyond_z + 1.f, 2);
     }
     const int far_end = 22 - ring6.edge_returns;
     for (int col = 15; col <= far_end; ++col) {
