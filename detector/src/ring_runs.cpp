@@ -180,8 +180,8 @@ void ColumnProfiles::mark_chained_silhouettes(const Cloud& cloud) {
     }
     const RingRun &first = runs_[i], &last = runs_[j];
     if (!dropped || !stands_out(cloud, first.first, first.last, first.a, last.b) ||
-        !(runs_raised(i, j) || face_over_line(cloud, first, last) ||
-          sky_past_both_ends(cloud, first, last))) {
+        !(runs_raised(i, j) || sky_past_both_ends(cloud, first, last) ||
+          face_over_line(cloud, first, last))) {
       continue;
     }
     for (std::size_t k = i; k <= j; ++k) mark_standing_out(runs_[k]);
