@@ -479,6 +479,8 @@ class ColumnProfiles {
   }
   [[nodiscard]] bool stopped_by_face(const Cloud& cloud, std::size_t end,
                                      std::size_t nearer) const;
+  [[nodiscard]] bool falls_across_edge(const Cloud& cloud, std::size_t end,
+                                       const RingBeyond& across, const RingBeyond& other) const;
   void add_to_profile(float r, float z);
   [[nodiscard]] float profile_at(float r) const;
 
@@ -505,6 +507,12 @@ class ColumnProfiles {
   // Two returns across the frame's edge are neighbours where their azimuths are at most this
   // many times their column gap apart (the frame a whole rotation there).
   static constexpr float kAzimuthSlack = 1.5f;
+  // A frame of fewer columns is a fragment (a capture's last, or one cut short by lost
+  // packets), never a whole rotation: every VLP-16 rotation has 904 columns or more (20 Hz),
+  // and the azimuth test above, against a column step of a full turn over the frame's
+  // columns, takes the two ends of a fragment of up to 73 columns for neighbours (at 5 Hz's
+  // 0.1 degree steps; slope_s5601's last frame at 20 Hz: 36 columns, 14 degrees).
+  static constexpr int kMinRotationColumns = 100;
   // Returns across the frame's edge are continuous within this many times the run gap (the
   // vehicle moved over the rotation between them).
   static constexpr float kEdgeMotionSlack = 2.f;

@@ -891,9 +891,30 @@ bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Ind
   // At one range (a face) asked only across the frame's edge: the walk along the run costs.
   const auto face = [&] { return a < b && at_one_range(cloud, a, b); };
   const RingBeyond before = beyond_end(cloud, first, last, a, false);
-  if (!end_open(cloud, a, before, before.across && face())) return false;
+  const bool open_a = end_open(cloud, a, before, before.across && face());
+  if (!open_a && !before.across) return false;
   const RingBeyond after = beyond_end(cloud, first, last, b, true);
-  return end_open(cloud, b, after, after.across && face());
+  if (!open_a) return falls_across_edge(cloud, a, before, after) && face();
+  return end_open(cloud, b, after, after.across && face()) ||
+         (falls_across_edge(cloud, b, after, before) && face());
+}
+
+// Whether run end `end`, at the frame's edge, opens across it all the same where the run
+// lies at one range (the caller asks): the ring's return across the edge (`across`) is
+// farther by the motion slack and lower, and past the run's other end (`other`) the ring
+// meets nothing over at least twice sky_columns. A falling ring meeting the sky over a
+// stretch on one side and farther, lower returns on the other has the terrain out of its
+// reach on both; the face between is an object met straight ahead past a grade change,
+// level with the road or not (slope_s6701 at 20 Hz: ring 6 on an object 34.3 m out, 0.95 m
+// over the slope falling away and level with the vehicle's ground, the sky over 32 columns
+// on one side, an object 41 m out and 0.36 m lower across the edge; end_open asks for a
+// face under the ring below's ground). A crest's top met straight ahead with the ring going
+// on to farther terrain past its other end, without the sky between, stays ground.
+bool ColumnProfiles::falls_across_edge(const Cloud& cloud, Index end, const RingBeyond& across,
+                                       const RingBeyond& other) const {
+  return across.across && other.gap >= 2 * p_.sky_columns &&
+         farther(cloud.range_xy[end], cloud.range_xy[across.index], true) &&
+         cloud.z[across.index] < cloud.z[end];
 }
 
 // Run [a, b] of one ring, longer than silhouette_max_m: a wider silhouette
@@ -958,7 +979,7 @@ std::size_t ColumnProfiles::across_edge(const Cloud& cloud, Index first, Index l
   const int columns = frame_columns();
   const int column = cloud.column[end];
   const Index across = after ? first : last - 1;
-  if (across == end) return kNone;
+  if (across == end || columns < kMinRotationColumns) return kNone;
   around =
       (after ? cloud.column[across] + columns - column : column + columns - cloud.column[across]) -
       1;

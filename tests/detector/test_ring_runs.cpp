@@ -293,6 +293,8 @@ TEST_CASE("column profiles: an object's face past a drop opens across the frame'
   struct Box {
     float z = -1.f;        // under the road (z = 0): seen past a drop
     float recede_m = 0.f;  // range added at each column: 0 is one face at one range
+    float across_z = -2.4f;       // the return across the edge, 48 m out
+    bool terrain_before = false;  // ring 5 meets terrain 48 m out up to 2 columns before
   };
   const auto box_ground = [](Box box) {
     Scan s;
@@ -301,7 +303,9 @@ TEST_CASE("column profiles: an object's face past a drop opens across the frame'
       if (col >= kColumns - 6) {
         add(s, 5, col, 32.6f + box.recede_m * static_cast<float>(col - (kColumns - 6)), box.z, 2);
       } else if (col <= 2) {
-        add(s, 5, col, 48.f, -2.4f, 2);
+        add(s, 5, col, 48.f, box.across_z, 2);
+      } else if (box.terrain_before && col < kColumns - 8) {
+        add(s, 5, col, 48.f, -2.4f, 1);
       }
     }
     const auto ground = label(s).ground;
@@ -309,12 +313,36 @@ TEST_CASE("column profiles: an object's face past a drop opens across the frame'
     return ground_on_ring(s, ground, 5) - ground_on_ring(s, ground, 5, kColumns - 6);
   };
   CHECK(box_ground({}) == 0);
-  // Level with the road, the run is a crest's top met by one ring straight ahead
-  // (hills_s2803): ground.
-  CHECK(box_ground({.z = 0.f}) == 6);
+  // Level with the road, the sky past its other end and a farther, lower return across the
+  // edge, the face is an object too (slope_s6701 at 20 Hz: falls_across_edge).
+  CHECK(box_ground({.z = 0.f}) == 0);
+  // ... but where the ring goes on to farther terrain 2 columns past its other end (no sky
+  // between), the run is a crest's top met by one ring straight ahead (hills_s2803): ground.
+  CHECK(box_ground({.z = 0.f, .terrain_before = true}) == 6);
+  // ... and where the return across the edge lies higher, ground.
+  CHECK(box_ground({.z = 0.f, .across_z = 0.3f}) == 6);
   // Receding along the ring (0.8 m a column, within the run gap of each other), it is terrain
-  // met sideways: a valley's floor past a drop (hills_s1805 at 20 Hz), ground.
+  // met sideways: a valley's floor past a drop (hills_s1805 at 20 Hz), ground, level or not.
   CHECK(box_ground({.recede_m = 0.8f}) == 6);
+  CHECK(box_ground({.z = 0.f, .recede_m = 0.8f}) == 6);
+}
+
+TEST_CASE("column profiles: a frame fragment's ends are no neighbours across its edge",
+          "[detector][profiles]") {
+  // A capture's last frame, 20 columns of a rotation (1 degree apart): its ends, 19 degrees
+  // apart, are within 1.5 column steps of a whole turn over 20 columns (18 degrees). Sim
+  // slope_s5601 at 20 Hz, the last frame (36 columns): ring 4 sees the road 18 m out at its
+  // last two columns, the sky before them, and an object 38 m out at its first column.
+  Scan s;
+  add_level_rings(s, {3.f, 4.f, 5.f, 6.f, 7.f}, 20);
+  for (int col = 0; col < 20; ++col) {
+    if (col <= 2) add(s, 5, col, 38.f, -2.6f, 2);
+    if (col >= 17) add(s, 5, col, 10.f, 0.f, 1);
+  }
+  const auto ground = label(s).ground;
+  // The road at the last columns does not open across the edge onto the farther, lower
+  // return (falls_across_edge): ground.
+  CHECK(ground_on_ring(s, ground, 5) - ground_on_ring(s, ground, 5, 17) == 3);
 }
 
 TEST_CASE("column profiles: an object a gap cut in two stands out whole",
