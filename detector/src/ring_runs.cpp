@@ -909,10 +909,13 @@ bool ColumnProfiles::stands_out(const Cloud& cloud, Index first, Index last, Ind
 // over the slope falling away and level with the vehicle's ground, the sky over 32 columns
 // on one side, an object 41 m out and 0.36 m lower across the edge; end_open asks for a
 // face under the ring below's ground). A crest's top met straight ahead with the ring going
-// on to farther terrain past its other end, without the sky between, stays ground.
+// on to farther terrain past its other end, without the sky between, stays ground. Only
+// in a whole rotation (kMinRotationColumns): the ends of a capture's last fragment are no
+// neighbours (slope_s5601 at 20 Hz, 36 columns: ring 4's road at its last two columns).
 bool ColumnProfiles::falls_across_edge(const Cloud& cloud, Index end, const RingBeyond& across,
                                        const RingBeyond& other) const {
-  return across.across && other.gap >= 2 * p_.sky_columns &&
+  return across.across && frame_columns() >= kMinRotationColumns &&
+         other.gap >= 2 * p_.sky_columns &&
          farther(cloud.range_xy[end], cloud.range_xy[across.index], true) &&
          cloud.z[across.index] < cloud.z[end];
 }
@@ -979,7 +982,7 @@ std::size_t ColumnProfiles::across_edge(const Cloud& cloud, Index first, Index l
   const int columns = frame_columns();
   const int column = cloud.column[end];
   const Index across = after ? first : last - 1;
-  if (across == end || columns < kMinRotationColumns) return kNone;
+  if (across == end) return kNone;
   around =
       (after ? cloud.column[across] + columns - column : column + columns - cloud.column[across]) -
       1;
