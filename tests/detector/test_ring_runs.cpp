@@ -327,10 +327,11 @@ TEST_CASE("column profiles: an object's face past a drop opens across the frame'
   CHECK(box_ground({.z = 0.f, .recede_m = 0.8f}) == 6);
 }
 
-TEST_CASE("column profiles: a frame fragment's ends are no neighbours across its edge",
+TEST_CASE("column profiles: a frame fragment's end does not fall away across its edge",
           "[detector][profiles]") {
   // A capture's last frame, 20 columns of a rotation (1 degree apart): its ends, 19 degrees
-  // apart, are within 1.5 column steps of a whole turn over 20 columns (18 degrees). Sim
+  // apart, are within 1.5 column steps of a whole turn over 20 columns (18 degrees), so the
+  // azimuth test takes them for neighbours; falls_across_edge asks for a whole rotation. Sim
   // slope_s5601 at 20 Hz, the last frame (36 columns): ring 4 sees the road 18 m out at its
   // last two columns, the sky before them, and an object 38 m out at its first column.
   Scan s;
