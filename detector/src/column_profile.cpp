@@ -27,11 +27,14 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   const std::uint32_t* const column_start = column_start_.data();
   ring_reach_.resize(columns * kLasers);
   if (columns > 0) note_ring_reach(0);
+  covered_tops_ = 0;
+  hidden_tops_.clear();
   for (Index c = 0; c < columns; ++c) {
     if (c + 1 < columns) note_ring_reach(c + 1);  // ray_reaches looks one column ahead
     walk_column(c, column_start[c], column_start[c + 1], plane_height, height);
   }
   find_ring_runs(cloud, strongest);  // for the silhouettes and the shadows
+  drop_covered_tops(cloud);
   drop_short_level_runs(cloud);
   // Silhouettes first: an object standing out (a facade's ring line that the walk took past
   // a fence line) must not vouch for a single rise below it.

@@ -337,6 +337,7 @@ class ColumnProfiles {
                                            float last_z, float bend) const;
   [[nodiscard]] bool on_measured_level2(const ColumnPoint& q) const;
   [[nodiscard]] bool under_overhang(const ColumnPoint& q, const ColumnPoint& above) const;
+  [[nodiscard]] bool face_over(const ColumnPoint& q, const ColumnPoint& over) const;
   [[nodiscard]] bool face_goes_on_below(std::size_t begin, std::size_t k) const;
   // The column's return of the next lower ring than column point k's (column points
   // [begin, k)), skipping the other layer's return of k's own ring; kNone: none. Inline: the
@@ -431,6 +432,9 @@ class ColumnProfiles {
   [[nodiscard]] bool under_lower_ground(const Cloud& cloud, std::size_t end) const;
   [[nodiscard]] bool outer_end_sky(const Cloud& cloud, const RingRun& run, bool after) const;
   void drop_wall_lines(const Cloud& cloud);
+  void drop_covered_tops(const Cloud& cloud);
+  [[nodiscard]] bool nothing_taken_over(const Cloud& cloud, std::size_t i) const;
+  [[nodiscard]] bool across_the_rays(const Cloud& cloud, std::size_t a, std::size_t b) const;
   [[nodiscard]] bool ground_and_face(const RingRun& run) const;
   void follow_wall_lines(const Cloud& cloud, const RingRun& run, bool forward);
   // How high a steep return lies on its face (face_height): low (near its foot, or no lower
@@ -495,10 +499,15 @@ class ColumnProfiles {
   std::vector<ColumnPoint> points_;
   std::vector<std::uint32_t> position_;  // column point of each cloud point
   std::vector<float> ring_reach_;        // farthest return by column and ring (ray_reaches)
-  std::vector<std::uint8_t> shadowed_;  // ColumnPoint::shadowed by cloud point
-  std::vector<std::uint32_t> refuted_;  // column points to drop (drop_refuted_rises)
-  std::vector<std::uint8_t> stands_out_;     // in a run standing out (remove_silhouettes)
-  std::vector<std::uint8_t> continuous_;     // with the next return (mark_continuous)
+  std::vector<std::uint8_t> shadowed_;   // ColumnPoint::shadowed by cloud point
+  std::vector<std::uint32_t> refuted_;   // column points to drop (drop_refuted_rises)
+  // Returns past a hidden top (past_hidden_top) this frame, as cloud index x 2 + 1 where the
+  // walk took it with a face or crown over it (covered), + 0 where it refused it as its
+  // column's last return (bare); and how many are covered (drop_covered_tops).
+  std::vector<std::uint64_t> hidden_tops_;
+  std::size_t covered_tops_ = 0;
+  std::vector<std::uint8_t> stands_out_;  // in a run standing out (remove_silhouettes)
+  std::vector<std::uint8_t> continuous_;  // with the next return (mark_continuous)
   // A run [a, b] of returns continuous along a ring whose returns are [first, last). A ring
   // is a closed curve that the frame's edge cuts: the ring's first run goes on from its last
   // run across the edge when their ends are continuous (wrap: the other run's index).
@@ -542,6 +551,15 @@ class ColumnProfiles {
   }
   void drop_run(const RingRun& run, std::size_t keep_a, std::size_t keep_b);
   void drop_all_but_road_through_gaps(const Cloud& cloud, const RingRun& run);
+  // The ring's returns just past a run's two ends, and the run's first and last returns the
+  // walk refused (between_feet); kNone where there are none.
+  struct BetweenFeet {
+    std::size_t past_before = kNone, past_after = kNone;
+    std::size_t first_refused = kNone, last_refused = kNone;
+  };
+  [[nodiscard]] BetweenFeet between_feet(const RingRun& run) const;
+  [[nodiscard]] bool on_ground_between_feet(const Cloud& cloud, const BetweenFeet& feet,
+                                            std::size_t i) const;
   [[nodiscard]] bool steps_back(const Cloud& cloud, std::size_t near, std::size_t far) const;
   [[nodiscard]] bool steps_behind(const Cloud& cloud, std::size_t near, std::size_t far,
                                   std::size_t next) const;

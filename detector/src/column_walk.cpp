@@ -291,6 +291,13 @@ bool ColumnProfiles::face_goes_on_below(Index begin, Index k) const {
   return drop > p_.face_below_m && std::abs(q.r - below.r) < drop;
 }
 
+// Whether return `over` (the next of q's column) rises over q steeper than any ground
+// (max_gradient): a face or a crown over it, not a hillside rising on (hills_s903 dual:
+// ring 11 rising at 0.3 from ring 10's return 30 m out, over a dip the rings do not see).
+bool ColumnProfiles::face_over(const ColumnPoint& q, const ColumnPoint& over) const {
+  return over.z - q.z > p_.max_gradient * std::max(0.f, over.r - q.r);
+}
+
 // Whether `above`, the column's next return (a higher ring), lies more than overhang_m
 // nearer than q and over q's ray at its distance.
 bool ColumnProfiles::under_overhang(const ColumnPoint& q, const ColumnPoint& above) const {
@@ -542,9 +549,14 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       // gently where the climb levelled off (climb_levelled_off), unless it lies on the
       // level-2 surface where that surface has ground of its own (the climb's hillside rising
       // on, met by the next ring far out: hills_s504, hills_s702).
-      if ((rising || climb_levelled_off(gradient, step)) && k + 1 == end &&
-          past_hidden_top(r, last_r, last_z) && !on_measured_level2(q)) {
-        accept = false;
+      // With the next return rising over it steeper than any ground (a face or a crown over
+      // it, not a hillside rising on), it is judged with its ring (drop_covered_tops).
+      const bool last = k + 1 == end;
+      if ((rising || climb_levelled_off(gradient, step)) && past_hidden_top(r, last_r, last_z) &&
+          (last || face_over(q, points_[k + 1])) && !on_measured_level2(q)) {
+        if (!last) ++covered_tops_;
+        accept = accept && !last;
+        hidden_tops_.push_back(std::uint64_t{q.index} << 1 | (last ? 0u : 1u));
       }
     } else {
       const float rise = blocked              ? p_.blocked_rise_m + p_.blocked_rise_per_m * advance

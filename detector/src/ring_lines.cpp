@@ -1,6 +1,6 @@
 // Level 3 along the rings (docs/detector.md, "Column profiles", rule 5): a ring's line along
-// a wall carries the wall on, and a ring runs on as ground across the shadow of an obstacle
-// in front.
+// a wall carries the wall on, a ring's object past a hidden top is one object, and a ring
+// runs on as ground across the shadow of an obstacle in front.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -41,6 +41,66 @@ void ColumnProfiles::drop_wall_lines(const Cloud& cloud) {
     follow_wall_lines(cloud, run, false);
   }
   for (const std::uint32_t k : refuted_) points_[k].ground = 0;
+}
+
+// A ring meeting an object that stands on a top the rings cannot see: the walk refuses the
+// ring's returns where they are their column's last (past_hidden_top: bare) and takes
+// them where the next ring rises over them more steeply than any ground, meeting the
+// object's face or crown (covered, hidden_tops_). A short run (silhouette_max_m, the chord
+// between its ends), more across the rays than along them, with a bare return is that one
+// object: its covered returns with no return over them taken (nothing_taken_over) leave
+// the ground too (bank_s6701: ring 11 on an object 31-32 m out, 2 m over the top of a bank
+// that ring 10 met 17 m out, ring 12 on it 1.5 m higher over 16 of the run's 26 columns).
+// A long run is a hillside rising on far past a hidden dip, where a few objects over it
+// cover some columns (hills_s903: ring 11 along a hill 38 m out over 93 columns); one
+// receding along the rays, a hillside along the ring (hills_s5904 tilted).
+void ColumnProfiles::drop_covered_tops(const Cloud& cloud) {
+  if (covered_tops_ == 0) return;                       // most frames have none
+  std::sort(hidden_tops_.begin(), hidden_tops_.end());  // a few, in cloud order (as the runs)
+  const auto index = [](std::uint64_t mark) { return static_cast<Index>(mark >> 1); };
+  const auto covered_mark = [](std::uint64_t mark) { return (mark & 1u) != 0; };
+  std::size_t m = 0;
+  for (const RingRun& run : runs_) {
+    while (m < hidden_tops_.size() && index(hidden_tops_[m]) < run.a) ++m;
+    std::size_t end = m;  // [m, end): the run's marks
+    bool bare = false, covered = false;
+    for (; end < hidden_tops_.size() && index(hidden_tops_[end]) <= run.b; ++end) {
+      (covered_mark(hidden_tops_[end]) ? covered : bare) = true;
+    }
+    if (bare && covered && !apart(cloud, run.a, run.b, p_.silhouette_max_m) &&
+        across_the_rays(cloud, run.a, run.b)) {
+      for (std::size_t k = m; k < end; ++k) {
+        const Index i = index(hidden_tops_[k]);
+        if (covered_mark(hidden_tops_[k]) && nothing_taken_over(cloud, i)) {
+          points_[position_[i]].ground = 0;
+        }
+      }
+    }
+    m = end;
+  }
+}
+
+// Whether returns a..b of one ring lie on a face more across the rays than along them:
+// their spread in range at most the distance across the rays between the two ends.
+bool ColumnProfiles::across_the_rays(const Cloud& cloud, Index a, Index b) const {
+  float nearest = cloud.range_xy[a], farthest = nearest;
+  for (Index i = a + 1; i <= b; ++i) {
+    nearest = std::min(nearest, cloud.range_xy[i]);
+    farthest = std::max(farthest, cloud.range_xy[i]);
+  }
+  const float ax = cloud.x[a] - p_.sensor_x, ay = cloud.y[a] - p_.sensor_y;
+  const float bx = cloud.x[b] - p_.sensor_x, by = cloud.y[b] - p_.sensor_y;
+  const float across = std::abs(ax * by - ay * bx) / cloud.range_xy[b];
+  return farthest - nearest <= across;
+}
+
+// Whether no return of cloud point i's column over it (after it in the column) is ground.
+bool ColumnProfiles::nothing_taken_over(const Cloud& cloud, Index i) const {
+  const Index end = column_start_[cloud.column[i] + 1];
+  for (Index k = position_[i] + 1; k < end; ++k) {
+    if (points_[k].ground != 0) return false;
+  }
+  return true;
 }
 
 // Whether run `run` holds both a ground return that is not steep and a steep obstacle

@@ -691,6 +691,46 @@ void ColumnProfiles::remove_silhouette(const Cloud& cloud, const RingRun& run,
   }
 }
 
+// Where the ring goes on past both ends of run `run` on ground the walk took that does not
+// stand out (on the same side of the frame's edge: none for a run across it, whose part
+// after the edge is the ring's first run): the returns there, and the run's first and last
+// returns the walk refused (BetweenFeet); else none. A low fence's face meets the ground at
+// its foot, so where the fence recedes past a ring's ground range the ring runs on from the
+// face onto the ground and back onto the next face: fences_s6904 at 20 Hz, rings 0-2 on
+// the ground 6.8-9.4 m out between two fences 5-10 m out, each ring's line 3-4 m long.
+// Without the guards (half the run gap; only between the run's refused returns) F1 was
+// lower on 16 tuning captures: past the ends, a low fence's own returns the walk took
+// (fences_s5905 at 5 Hz).
+ColumnProfiles::BetweenFeet ColumnProfiles::between_feet(const RingRun& run) const {
+  if (run.a == run.first || run.b + 1 >= run.last) return {};
+  const Index before = run.a - 1, after = run.b + 1;
+  for (const Index past : {before, after}) {
+    if (!taken(past) || stands_out_[past] != 0) return {};
+  }
+  Index first = run.a, last = run.b;  // an object's returns at both ends, mostly
+  while (first <= run.b && taken(first)) ++first;
+  if (first > run.b) return {};
+  while (taken(last)) --last;
+  return {before, after, first, last};
+}
+
+// Whether return i of a run standing out is the ground between two objects' feet: between
+// the run's first and last refused returns, and on the surface the ring goes on along past
+// both ends of the run (BetweenFeet): at its range within half the run gap and level with
+// it within the walk's 0.15 m (half single_rise_m).
+bool ColumnProfiles::on_ground_between_feet(const Cloud& cloud, const BetweenFeet& feet,
+                                            Index i) const {
+  if (feet.first_refused == kNone || i <= feet.first_refused || i >= feet.last_refused) {
+    return false;
+  }
+  const auto same_surface = [&](Index past) {
+    return std::abs(cloud.range_xy[i] - cloud.range_xy[past]) <=
+               0.5f * run_gap(cloud.range_xy[past]) &&
+           std::abs(cloud.z[i] - cloud.z[past]) <= 0.5f * p_.single_rise_m;
+  };
+  return same_surface(feet.past_before) && same_surface(feet.past_after);
+}
+
 // Run `run`'s returns leave the ground, but for [keep_a, keep_b] (none for kNone).
 void ColumnProfiles::drop_run(const RingRun& run, Index keep_a, Index keep_b) {
   for (Index i = run.a; i <= run.b; ++i) {
@@ -707,6 +747,7 @@ void ColumnProfiles::drop_run(const RingRun& run, Index keep_a, Index keep_b) {
 // rings lie metres apart and the road's edge may pass between them: a bush's top over the
 // fields 25 m out, level with the lower ring's road 8 m nearer (embankment_s1205 tilted).
 void ColumnProfiles::drop_all_but_road_through_gaps(const Cloud& cloud, const RingRun& run) {
+  const BetweenFeet feet = between_feet(run);
   // The column's first return (the lowest ring on a car's foot: embankment_s6003 at 5 Hz)
   // goes on from the vehicle's ground, not from a lower ring's road.
   const auto level_road = [&](Index i) {
@@ -723,6 +764,10 @@ void ColumnProfiles::drop_all_but_road_through_gaps(const Cloud& cloud, const Ri
     }
     if (end > i && end <= run.b && steps_back(cloud, end, end - 1)) {
       i = end;  // seen through a gap: kept
+      continue;
+    }
+    if (taken(i) && on_ground_between_feet(cloud, feet, i)) {
+      ++i;  // the ground between two objects' feet: kept
       continue;
     }
     points_[position_[i]].ground = 0;

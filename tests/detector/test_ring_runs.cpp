@@ -1135,3 +1135,138 @@ TEST_CASE("column profiles: a ring line small cuts broke into parts stands out w
   // ... or farther with no sky between: the line's ends open onto the terrain going on.
   CHECK(crown_ground({.over_level2 = 0.1f, .past_r = 45.f, .past_z = -0.3f, .past_sky = 0}) == 9);
 }
+
+TEST_CASE("column profiles: a ring's object past a hidden top is one object",
+          "[detector][profiles]") {
+  // Sim bank_s6701: rings 1-10 climb a bank's face at 0.35 to 17 m out, where its top
+  // levels off out of the rings' sight; ring 11 meets an object 31.7 m out, 1.9 m over the
+  // ring-10 ground, and ring 12 its crown over some of its columns. Where ring 11's return
+  // is its column's last the walk refuses it (past a hidden top); where ring 12 is over it
+  // (refused: 1.6 m over it, 2.4 m farther), it took it. Nearer bushes 16 m out bound the line (no
+  // silhouette).
+  struct Line {
+    int first = 10, last = 17;  // ring 11's columns on the object
+    int covered_to = 14;        // ring 12 over ring 11 up to this column
+    float crown_z = 7.f;        // ring 12's height
+    float crown_r = 34.1f;      // ... and range
+    float recede_m = 0.f;       // ring 11's line receding by this per column
+    float ring13_r = 0.f;       // ring 13 over the covered columns (0: none)
+    float ring13_z = 0.f;
+  };
+  const auto ring11_ground = [](Line line) {
+    Scan s;
+    for (int ring = 0; ring <= 13; ++ring) {
+      for (int col = 0; col < 30; ++col) {
+        if (ring <= 10) {
+          const float r = ring == 0 ? 6.f : 7.f + static_cast<float>(ring);
+          add(s, ring, col, r, 0.35f * std::max(0.f, r - 7.f), 1);
+        } else if (ring == 11 && (col == line.first - 1 || col == line.last + 1)) {
+          add(s, ring, col, 16.f, 3.9f, 2);  // a bush
+        } else if (ring == 11 && col >= line.first && col <= line.last) {
+          add(s, ring, col, 31.7f + line.recede_m * static_cast<float>(col - line.first), 5.4f, 2);
+        } else if (ring == 12 && col >= line.first && col <= line.covered_to) {
+          const float recede = line.recede_m * static_cast<float>(col - line.first);
+          add(s, ring, col, line.crown_r + recede, line.crown_z, 2);
+        } else if (ring == 13 && line.ring13_r > 0.f && col >= line.first &&
+                   col <= line.covered_to) {
+          add(s, ring, col, line.ring13_r, line.ring13_z, 1);
+        }
+      }
+    }
+    const auto ground = label(s).ground;
+    return ground_on_ring(s, ground, 11);
+  };
+  CHECK(ring11_ground({}) == 0);
+  // Covered over all its columns, no bare return: the walk's labels stand.
+  CHECK(ring11_ground({.covered_to = 17}) == 8);
+  // Ring 12 over it rising on at 0.25, taken: the climb's surface rising on, ground.
+  CHECK(ring11_ground({.crown_z = 6.f}) == 5);
+  // Ring 12 over it 6 m farther, refused as well: rising on at 0.3 from it, a hillside rising
+  // on past a hidden dip (hills_s903 dual: ring 11 35.8 m out over ring 10's hillside 30 m
+  // out): ground; rising at 0.77, steeper than any ground, the object's crown: dropped.
+  CHECK(ring11_ground({.crown_z = 7.2f, .crown_r = 37.7f}) == 5);
+  // Ring 13 over the covered columns on a hillside 60 m out, taken: the terrain rising on
+  // shows in the rings over the covered returns, which stay ground.
+  CHECK(ring11_ground({.ring13_r = 60.f, .ring13_z = 9.f}) == 5);
+  // A shorter line (5 columns) drops its covered returns too, but not where it recedes
+  // along the rays more than it runs across them (0.75 m a column, 3 m over 2.2 m across: a
+  // hillside receding along the ring, hills_s5904 tilted).
+  CHECK(ring11_ground({.last = 14, .covered_to = 12}) == 0);
+  CHECK(ring11_ground({.last = 14, .covered_to = 12, .recede_m = 0.75f}) == 3);
+  CHECK(ring11_ground({.crown_z = 10.f, .crown_r = 37.7f}) == 0);
+  // A long line (29 columns, 16 m): a hillside rising on far past a hidden dip, with objects
+  // over some of it: the covered returns stay ground.
+  CHECK(ring11_ground({.first = 1, .last = 28, .covered_to = 20}) == 20);
+}
+
+TEST_CASE("column profiles: the ground between two objects' feet is not an object",
+          "[detector][profiles]") {
+  // Sim fences_s6904 at 20 Hz: two low fences 5-8 m out recede past rings 0 and 1's ground
+  // ranges and come back; each ring runs continuously down each fence's face onto the
+  // ground between them, so each whole line (3.3-4.5 m) stands out, the other ring's line
+  // as well, with the ring's ground going on past both ends.
+  struct Scene {
+    float middle_z = 0.f;      // ring 0's ground between the fences
+    float outer_r = 6.85f;     // ... and outside them
+    float after_r = 6.85f;     // ... past the second fence
+    bool past_face = false;    // ring 0's return before the first fence on a post's foot
+    bool ground_after = true;  // ring 0 meets the ground past the second fence
+    int missing_fence = 0;     // ring 0 meets ground and drops out over 3 columns there (1, 2)
+    bool piece_after = false;  // ring 0 meets only 3 columns of ground past the second fence
+  };
+  const auto middle_ground = [](Scene scene) {
+    Scan s;
+    const auto fence = [](int col) {  // 0 at a fence's foot, 1 at its nearest column
+      if (col >= 20 && col < 30) return static_cast<float>(29 - col) / 9.f;
+      if (col >= 50 && col < 60) return static_cast<float>(col - 50) / 9.f;
+      return -1.f;
+    };
+    const float ground_r[] = {6.85f, 8.f};
+    for (int ring = 0; ring < 2; ++ring) {
+      const float r = ground_r[ring];
+      for (int col = 0; col < 100; ++col) {
+        const int fence_no = col < 40 ? 1 : 2;
+        const bool missing = ring == 0 && scene.missing_fence == fence_no;
+        const float f = missing ? -1.f : fence(col);
+        if (missing && (fence_no == 1 ? col >= 27 && col < 30 : col >= 50 && col < 53)) continue;
+        if (scene.piece_after && ring == 0 && col >= 60 && (col < 63 || col > 65)) continue;
+        const float z = ring == 0 && col >= 30 && col < 50 ? scene.middle_z : 0.f;
+        if (scene.past_face && col == 19 && ring < 2) {
+          // The post's foot 0.12 m under the ground on both sides, ring 1 on it over it:
+          // steep and off the profile's band, refused.
+          add(s, ring, col, 6.85f, ring == 0 ? -0.12f : 0.2f, 2);
+        } else if (f >= 0.f) {
+          add(s, ring, col, r - (r - 4.9f) * f,
+              0.01f + (0.53f + 0.3f * static_cast<float>(ring)) * f, 2);
+        } else if (ring > 0 || (col >= 30 && col < 50)) {
+          add(s, ring, col, r, z, 1);
+        } else if (col < 50 || scene.ground_after) {
+          add(s, ring, col, col < 50 ? scene.outer_r : scene.after_r, 0.f, 1);
+        }
+      }
+    }
+    const auto ground = label(s).ground;
+    int taken = 0;
+    for (std::size_t i = 0; i < ground.size(); ++i) {
+      if (s.cloud.ring[i] == 0 && s.cloud.column[i] >= 30 && s.cloud.column[i] < 50) {
+        taken += ground[i];
+      }
+    }
+    return taken;
+  };
+  CHECK(middle_ground({}) == 20);
+  // The sky past one end: nothing says the ring goes on past the line.
+  CHECK(middle_ground({.ground_after = false}) == 0);
+  // Ground level with the ring's ground past the ends (within the walk's 0.15 m) and at its
+  // range (the run gap), or not.
+  CHECK(middle_ground({.middle_z = 0.1f}) == 20);
+  CHECK(middle_ground({.middle_z = 0.16f}) == 0);
+  CHECK(middle_ground({.middle_z = -0.2f}) == 0);
+  CHECK(middle_ground({.outer_r = 7.5f}) == 0);
+  CHECK(middle_ground({.outer_r = 7.1f}) == 0);
+  CHECK(middle_ground({.missing_fence = 1}) == 0);
+  CHECK(middle_ground({.missing_fence = 2}) == 0);
+  CHECK(middle_ground({.piece_after = true}) == 0);
+  CHECK(middle_ground({.after_r = 7.1f}) == 0);
+  CHECK(middle_ground({.past_face = true}) == 0);
+}
