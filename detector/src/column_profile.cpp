@@ -27,7 +27,6 @@ void ColumnProfiles::label(const Cloud& cloud, const std::uint8_t* steep,
   const std::uint32_t* const column_start = column_start_.data();
   ring_reach_.resize(columns * kLasers);
   if (columns > 0) note_ring_reach(0);
-  covered_tops_ = 0;
   hidden_tops_.clear();
   for (Index c = 0; c < columns; ++c) {
     if (c + 1 < columns) note_ring_reach(c + 1);  // ray_reaches looks one column ahead

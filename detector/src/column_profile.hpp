@@ -460,6 +460,11 @@ class ColumnProfiles {
                                              std::size_t end, const RingBeyond& beyond) const;
   [[nodiscard]] bool at_one_range(const Cloud& cloud, const RingRun& run) const;
   [[nodiscard]] bool at_one_range(const Cloud& cloud, std::size_t a, std::size_t b) const;
+  struct RangeSpread {
+    float nearest, farthest;
+  };
+  [[nodiscard]] static RangeSpread range_spread(const Cloud& cloud, std::size_t a, std::size_t b);
+  [[nodiscard]] float distance_across_rays(const Cloud& cloud, std::size_t a, std::size_t b) const;
   [[nodiscard]] bool level_with_start(const RingRun& run) const;
   [[nodiscard]] bool falls_away_past(const Cloud& cloud, std::size_t end,
                                      const RingBeyond& beyond) const;
@@ -503,9 +508,8 @@ class ColumnProfiles {
   std::vector<std::uint32_t> refuted_;   // column points to drop (drop_refuted_rises)
   // Returns past a hidden top (past_hidden_top) this frame, as cloud index x 2 + 1 where the
   // walk took it with a face or crown over it (covered), + 0 where it refused it as its
-  // column's last return (bare); and how many are covered (drop_covered_tops).
+  // column's last return (bare) (drop_covered_tops).
   std::vector<std::uint64_t> hidden_tops_;
-  std::size_t covered_tops_ = 0;
   std::vector<std::uint8_t> stands_out_;  // in a run standing out (remove_silhouettes)
   std::vector<std::uint8_t> continuous_;  // with the next return (mark_continuous)
   // A run [a, b] of returns continuous along a ring whose returns are [first, last). A ring
@@ -612,6 +616,26 @@ inline bool ColumnProfiles::raised_over_level2(std::size_t k, float by) const {
 // has ground of its own (Level2Coverage::measured, looked up only for a return that high).
 inline bool ColumnProfiles::stands_over_measured_level2(std::size_t k) const {
   return raised_over_level2(k, p_.single_rise_m) && level2_.measured(points_[k].index);
+}
+
+// The nearest and farthest horizontal range of returns [a, b].
+inline ColumnProfiles::RangeSpread ColumnProfiles::range_spread(const Cloud& cloud, std::size_t a,
+                                                                std::size_t b) {
+  const float* const range = cloud.range_xy.data();
+  RangeSpread spread{range[a], range[a]};
+  for (std::size_t i = a + 1; i <= b; ++i) {
+    spread.nearest = std::min(spread.nearest, range[i]);
+    spread.farthest = std::max(spread.farthest, range[i]);
+  }
+  return spread;
+}
+
+// The horizontal distance across the rays between returns a and b, at b's range.
+inline float ColumnProfiles::distance_across_rays(const Cloud& cloud, std::size_t a,
+                                                  std::size_t b) const {
+  const float ax = cloud.x[a] - p_.sensor_x, ay = cloud.y[a] - p_.sensor_y;
+  const float bx = cloud.x[b] - p_.sensor_x, by = cloud.y[b] - p_.sensor_y;
+  return std::abs(ax * by - ay * bx) / cloud.range_xy[b];
 }
 
 // Whether returns a and b lie at least `distance` apart horizontally.

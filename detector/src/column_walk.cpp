@@ -554,7 +554,6 @@ void ColumnProfiles::walk_column(Index column, Index begin, Index end,
       const bool last = k + 1 == end;
       if ((rising || climb_levelled_off(gradient, step)) && past_hidden_top(r, last_r, last_z) &&
           (last || face_over(q, points_[k + 1])) && !on_measured_level2(q)) {
-        if (!last) ++covered_tops_;
         accept = accept && !last;
         hidden_tops_.push_back(std::uint64_t{q.index} << 1 | (last ? 0u : 1u));
       }

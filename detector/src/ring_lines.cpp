@@ -55,10 +55,11 @@ void ColumnProfiles::drop_wall_lines(const Cloud& cloud) {
 // cover some columns (hills_s903: ring 11 along a hill 38 m out over 93 columns); one
 // receding along the rays, a hillside along the ring (hills_s5904 tilted).
 void ColumnProfiles::drop_covered_tops(const Cloud& cloud) {
-  if (covered_tops_ == 0) return;                       // most frames have none
-  std::sort(hidden_tops_.begin(), hidden_tops_.end());  // a few, in cloud order (as the runs)
   const auto index = [](std::uint64_t mark) { return static_cast<Index>(mark >> 1); };
   const auto covered_mark = [](std::uint64_t mark) { return (mark & 1u) != 0; };
+  // Most frames have none.
+  if (std::none_of(hidden_tops_.begin(), hidden_tops_.end(), covered_mark)) return;
+  std::sort(hidden_tops_.begin(), hidden_tops_.end());  // a few, in cloud order (as the runs)
   std::size_t m = 0;
   for (const RingRun& run : runs_) {
     while (m < hidden_tops_.size() && index(hidden_tops_[m]) < run.a) ++m;
@@ -83,15 +84,8 @@ void ColumnProfiles::drop_covered_tops(const Cloud& cloud) {
 // Whether returns a..b of one ring lie on a face more across the rays than along them:
 // their spread in range at most the distance across the rays between the two ends.
 bool ColumnProfiles::across_the_rays(const Cloud& cloud, Index a, Index b) const {
-  float nearest = cloud.range_xy[a], farthest = nearest;
-  for (Index i = a + 1; i <= b; ++i) {
-    nearest = std::min(nearest, cloud.range_xy[i]);
-    farthest = std::max(farthest, cloud.range_xy[i]);
-  }
-  const float ax = cloud.x[a] - p_.sensor_x, ay = cloud.y[a] - p_.sensor_y;
-  const float bx = cloud.x[b] - p_.sensor_x, by = cloud.y[b] - p_.sensor_y;
-  const float across = std::abs(ax * by - ay * bx) / cloud.range_xy[b];
-  return farthest - nearest <= across;
+  const RangeSpread spread = range_spread(cloud, a, b);
+  return spread.farthest - spread.nearest <= distance_across_rays(cloud, a, b);
 }
 
 // Whether no return of cloud point i's column over it (after it in the column) is ground.

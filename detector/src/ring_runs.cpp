@@ -435,13 +435,8 @@ bool ColumnProfiles::at_one_range(const Cloud& cloud, const RingRun& run) const 
 
 // ... returns [a, b] of one ring.
 bool ColumnProfiles::at_one_range(const Cloud& cloud, Index a, Index b) const {
-  const float* const range = cloud.range_xy.data();
-  float nearest = range[a], farthest = range[a];
-  for (Index i = a + 1; i <= b; ++i) {
-    nearest = std::min(nearest, range[i]);
-    farthest = std::max(farthest, range[i]);
-  }
-  return farthest - nearest <= run_gap(nearest);
+  const RangeSpread spread = range_spread(cloud, a, b);
+  return spread.farthest - spread.nearest <= run_gap(spread.nearest);
 }
 
 // Whether any return of run `run` lies level with the ground under the vehicle (within
@@ -890,10 +885,7 @@ bool ColumnProfiles::steps_behind(const Cloud& cloud, Index near, Index far, Ind
 bool ColumnProfiles::steps_back(const Cloud& cloud, Index near, Index far) const {
   const float step = cloud.range_xy[far] - cloud.range_xy[near];
   if (!(step > p_.edge_step_min_m)) return false;  // the cheap test first
-  const float nx = cloud.x[near] - p_.sensor_x, ny = cloud.y[near] - p_.sensor_y;
-  const float fx = cloud.x[far] - p_.sensor_x, fy = cloud.y[far] - p_.sensor_y;
-  const float across = std::abs(nx * fy - ny * fx) / cloud.range_xy[far];
-  return step > p_.edge_step_ratio * across;
+  return step > p_.edge_step_ratio * distance_across_rays(cloud, near, far);
 }
 
 // Whether each return of [0, end) is continuous with the next one (run_column_gap,
