@@ -1,5 +1,6 @@
 #include "plane_checks.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "tangents.hpp"
@@ -23,9 +24,16 @@ int segment_of(const GroundResult& out, float x, float y) {
   return (x >= out.centre_x_m ? 1 : 0) + (y >= out.centre_y_m ? 2 : 0);
 }
 
+// The sensor-height prior: h, the sensor's height over the plane, within
+// min..max_sensor_height_m; with the mounting height known, also at least the mounting
+// height less max_over_wheels_m.
 bool plausible_height(const AgreementRules& r, const Plane& p) {
   const double h = signed_height(p, r.origin_x, r.origin_y, r.sensor_z);
-  return h >= r.min_sensor_height_m && h <= r.max_sensor_height_m;
+  const float min_m = static_cast<float>(r.min_sensor_height_m);
+  const double lowest = mounting_height_known(r.sensor_z, min_m)
+                            ? std::max(r.min_sensor_height_m, r.sensor_z - r.max_over_wheels_m)
+                            : r.min_sensor_height_m;
+  return h >= lowest && h <= r.max_sensor_height_m;
 }
 
 // Adjacent segments with their own ground must also agree along their shared edge (at

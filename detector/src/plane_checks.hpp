@@ -16,12 +16,24 @@ inline float signed_height(const Plane& p, float x, float y, float z) {
   return p.nx * x + p.ny * y + p.nz * z + p.d;
 }
 
+/// The mounting height is known (extrinsics z, at least the minimum sensor height): the
+/// vehicle frame's z = 0 is then the ground under the wheels.
+[[nodiscard]] inline bool mounting_height_known(float z_m, float min_sensor_height_m) {
+  return z_m > 0.f && z_m >= min_sensor_height_m;
+}
+
 struct AgreementRules {
   float origin_x = 0, origin_y = 0, sensor_z = 0;  // sensor position in the vehicle frame
   double min_sensor_height_m = 0.5, max_sensor_height_m = 5.0;
   double max_step_m = 0.4;  // adjacent planes must meet within this
   float soft_m = 2.f;       // ... somewhere within this of the centre or the shared edge
   float radius_m = 40.f;    // edges are compared inside the fit radius only
+  // With the mounting height known, a plane passing more than this over the ground under
+  // the wheels, at the sensor, is not the ground the vehicle stands on: the roofs of the
+  // cars around it in a jam, 1.3-1.6 m up (jam_s7003 at Hi-Res, where they were the only
+  // plane found). A ramp's plane extrapolated over the level ground at its foot passes up
+  // to 1.06 m over it (garage_s405 at 5 Hz).
+  double max_over_wheels_m = 1.2;
 };
 
 /// The anchor is the best-scoring segment whose plane lies a sensor height under the

@@ -13,6 +13,7 @@
 
 #include "hypotheses.hpp"
 #include "labelling.hpp"
+#include "plane_checks.hpp"
 #include "scoring.hpp"
 
 namespace vlpground::detail {
@@ -53,12 +54,6 @@ struct CellParams {
   float min_nz = 0.978f;  // cos(max tilt) of the plane under the sensor
   std::uint64_t seed = 1;
 };
-
-/// The mounting height is known (extrinsics z, at least the minimum sensor height): the
-/// vehicle frame's z = 0 is then the ground under the wheels.
-[[nodiscard]] inline bool mounting_height_known(float z_m, float min_sensor_height_m) {
-  return z_m > 0.f && z_m >= min_sensor_height_m;
-}
 
 enum class CellState : std::uint8_t { unvisited, level1, refined, inherited };
 
