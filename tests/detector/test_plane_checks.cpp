@@ -42,7 +42,7 @@ TEST_CASE("plane checks: with the mounting height known, no plane far over the w
   // The mounting height unknown (the sensor's own frame): the same roofs, 0.58 m under the
   // sensor, pass the prior.
   CHECK(lone_plane_kept(1.9f - 0.58f - 1.9f, 0.f));
-  // ... and nothing passes 0.4 m under it, known or not.
+  // ... and no plane only 0.4 m under the sensor, known or not.
   CHECK_FALSE(lone_plane_kept(1.5f, 1.9f));
   CHECK_FALSE(lone_plane_kept(-0.4f, 0.f));
 }
